@@ -1,0 +1,93 @@
+//! Isotropic height-field normal distribution functions (NDFs) and their Smith functions.
+//!
+//! Every NDF is normalised by projected area, `integral D(wm) wm.z dwm = 1`, and defined for
+//! `wm.z > 0` (zero below). The Smith `Lambda` is extended to the whole sphere so that the
+//! projected area obeys `sigma(w) = w.z (1 + Lambda(w))` for every direction; this gives
+//! `Lambda(-w) = -1 - Lambda(w)` and, below the horizon, `sigma(w) = |w.z| Lambda(-w)`
+//! (Heitz et al. 2016).
+
+mod any;
+mod beckmann;
+mod ggx;
+mod student_t;
+
+pub use any::AnyNdf;
+pub use beckmann::Beckmann;
+pub use ggx::Ggx;
+pub use student_t::StudentT;
+
+use crate::math::Vec3;
+use rand::Rng;
+
+/// An isotropic microfacet normal distribution with Smith masking and exact sampling of its
+/// distribution of visible normals.
+pub trait Ndf: Clone + Send + Sync {
+    /// `D(wm)`, normalised by projected area; zero for `wm.z <= 0`. `wm` must be unit length.
+    fn d(&self, wm: Vec3) -> f64;
+
+    /// Smith `Lambda(w)` for any unit `w` on the sphere, extended below the horizon by
+    /// `Lambda(-w) = -1 - Lambda(w)`; `+inf` (`-inf`) exactly at the horizon from above (below).
+    fn lambda(&self, w: Vec3) -> f64;
+
+    /// Projected area of the microsurface seen from `w`: `integral max(0, w.wm) D(wm) dwm`.
+    /// Equals `w.z (1 + Lambda(w))` above the horizon and `|w.z| Lambda(-w)` below it; finite
+    /// and positive at the horizon itself.
+    fn sigma(&self, w: Vec3) -> f64;
+
+    /// Draws a microfacet normal from the distribution of normals visible from `w`,
+    /// [`Ndf::d_visible`], for any `w` on the sphere with `sigma(w) > 0`.
+    /// The result is a unit vector with `w.wm > 0` and `wm.z > 0`.
+    fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3;
+
+    /// Smith masking `G1(w) = 1 / (1 + Lambda(w'))` of a direction by the surface on its own
+    /// side: `w'` is `w` mirrored to the upper hemisphere (so a direction inside a dielectric is
+    /// masked by the mirrored surface, as in Walter et al. 2007). The local facet condition
+    /// `w.wm / w.z > 0` is the caller's to check.
+    fn g1(&self, w: Vec3) -> f64 {
+        let up = Vec3::new(w.x, w.y, w.z.abs());
+        1.0 / (1.0 + self.lambda(up))
+    }
+
+    /// Density of visible normals, `D_w(wm) = max(0, w.wm) D(wm) / sigma(w)`, per unit solid
+    /// angle of `wm`.
+    fn d_visible(&self, w: Vec3, wm: Vec3) -> f64 {
+        let cos = w.dot(&wm);
+        if cos <= 0.0 {
+            return 0.0;
+        }
+        let sigma = self.sigma(w);
+        if sigma > 0.0 {
+            cos * self.d(wm) / sigma
+        } else {
+            0.0
+        }
+    }
+}
+
+/// `(u, tan^2 theta)` of a facet normal, or `None` for `wm.z <= 0`.
+#[inline]
+pub(crate) fn cos_tan2(wm: Vec3) -> Option<(f64, f64)> {
+    let u = wm.z;
+    if u <= 0.0 {
+        return None;
+    }
+    let u2 = u * u;
+    let sin2 = (wm.x * wm.x + wm.y * wm.y).min(1.0);
+    Some((u, sin2 / u2))
+}
+
+/// Extends a Lambda defined for upward directions, given as a function of `mu = cot(theta) >
+/// 0`, to the whole sphere by `Lambda(-w) = -1 - Lambda(w)`.
+#[inline]
+pub(crate) fn lambda_on_sphere(w: Vec3, lambda_up: impl Fn(f64) -> f64) -> f64 {
+    let (c, s) = crate::math::cos_sin_theta(w);
+    if s == 0.0 {
+        return if c > 0.0 { 0.0 } else { -1.0 };
+    }
+    if c == 0.0 {
+        return f64::INFINITY;
+    }
+    let mu = c.abs() / s;
+    let l = lambda_up(mu);
+    if c > 0.0 { l } else { -1.0 - l }
+}
