@@ -1,0 +1,224 @@
+//! Parallel Monte Carlo estimators over many walks: the BSDF toward many directions at once, and
+//! the fractions of incident flux reflected and transmitted.
+//!
+//! Walks run in fixed chunks of [`CHUNK`] walks, each with its own PCG stream derived from the
+//! seed and the chunk index, and chunk sums are added in chunk order. Results are therefore
+//! identical for a given seed whatever the number of threads.
+
+use super::microsurface::Target;
+use super::{Facet, Microsurface, WalkEnd};
+use crate::math::Vec3;
+use crate::ndf::Ndf;
+use rand_pcg::Pcg64;
+use rayon::prelude::*;
+
+/// Walks per chunk: the unit of parallel work and of random-number streams.
+pub const CHUNK: u64 = 2048;
+
+/// A Monte Carlo estimate with its standard error.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Estimate {
+    pub mean: f64,
+    /// Standard error of `mean` (sample standard deviation over `sqrt(n)`).
+    pub stderr: f64,
+}
+
+/// Fractions of the incident flux leaving on the side of the light (reflectance) and on the
+/// other side (transmittance), for the selected scattering orders, with no radiance `1/eta^2`
+/// scaling (a non-absorbing dielectric gives `reflectance + transmittance = 1`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AlbedoEstimate {
+    pub reflectance: f64,
+    pub transmittance: f64,
+    pub reflectance_stderr: f64,
+    pub transmittance_stderr: f64,
+    /// Mean number of scattering events of the walks that contributed.
+    pub mean_bounces: f64,
+    /// Fraction of the incident flux dropped by walks that reached
+    /// [`MAX_BOUNCES`](super::MAX_BOUNCES).
+    pub truncated: f64,
+    /// Number of walks.
+    pub walks: u64,
+}
+
+/// Running sums of a per-walk quantity.
+#[derive(Debug, Clone, Copy, Default)]
+struct Sums {
+    s1: f64,
+    s2: f64,
+}
+
+impl Sums {
+    #[inline]
+    fn add(&mut self, x: f64) {
+        self.s1 += x;
+        self.s2 += x * x;
+    }
+
+    fn merge(&mut self, o: &Sums) {
+        self.s1 += o.s1;
+        self.s2 += o.s2;
+    }
+
+    fn estimate(&self, n: u64) -> Estimate {
+        if n == 0 {
+            return Estimate {
+                mean: 0.0,
+                stderr: 0.0,
+            };
+        }
+        let nf = n as f64;
+        let mean = self.s1 / nf;
+        let var = if n > 1 {
+            ((self.s2 / nf - mean * mean) * nf / (nf - 1.0)).max(0.0)
+        } else {
+            0.0
+        };
+        Estimate {
+            mean,
+            stderr: (var / nf).sqrt(),
+        }
+    }
+}
+
+/// The random-number stream of one chunk.
+fn chunk_rng(seed: u64, chunk: u64) -> Pcg64 {
+    Pcg64::new(
+        (u128::from(seed) << 64) | 0xa02b_db6f_7e5c_3c1d,
+        u128::from(chunk),
+    )
+}
+
+/// Number of walks in chunk `c` of a run of `walks`.
+fn chunk_len(walks: u64, c: u64) -> u64 {
+    CHUNK.min(walks - c * CHUNK)
+}
+
+impl<N: Ndf, F: Facet> Microsurface<N, F> {
+    /// Estimates `f(wi, wo) |wo.z|` for every `wo` in `wos` from one set of `walks` walks from
+    /// `wi`, with next-event estimation toward every `wo` at every hit. Parallel (rayon) and
+    /// deterministic for a given `seed`.
+    pub fn eval_many(&self, wi: Vec3, wos: &[Vec3], walks: u64, seed: u64) -> Vec<Estimate> {
+        let targets: Vec<Option<Target>> =
+            wos.iter().map(|&wo| Target::new(self.ndf(), wo)).collect();
+        let k = wos.len();
+        let n_chunks = walks.div_ceil(CHUNK);
+        let chunk_sums: Vec<Vec<Sums>> = (0..n_chunks)
+            .into_par_iter()
+            .map(|c| {
+                let mut rng = chunk_rng(seed, c);
+                let mut sums = vec![Sums::default(); k];
+                let mut acc = vec![0.0f64; k];
+                for _ in 0..chunk_len(walks, c) {
+                    acc.fill(0.0);
+                    if wi.z != 0.0 {
+                        self.walk(wi, &mut rng, |hit, rng| {
+                            if !self.orders().includes(hit.order) {
+                                return;
+                            }
+                            let (d_out, d_in) = hit.depths();
+                            for (a, t) in acc.iter_mut().zip(&targets) {
+                                let Some(t) = t else { continue };
+                                let p = self.facet().phase(self.ndf(), &hit.inc, t.wo, rng);
+                                if p > 0.0 {
+                                    *a += hit.weight * p * t.escape(d_out, d_in);
+                                }
+                            }
+                        });
+                    }
+                    for (s, &a) in sums.iter_mut().zip(&acc) {
+                        s.add(a);
+                    }
+                }
+                sums
+            })
+            .collect();
+        let mut total = vec![Sums::default(); k];
+        for sums in &chunk_sums {
+            for (t, s) in total.iter_mut().zip(sums) {
+                t.merge(s);
+            }
+        }
+        total.iter().map(|s| s.estimate(walks)).collect()
+    }
+
+    /// Fractions of the flux arriving from `wi` that leave on each side, from `walks` walks.
+    pub fn albedo(&self, wi: Vec3, walks: u64, seed: u64) -> AlbedoEstimate {
+        self.albedo_with_progress(wi, walks, seed, &|_| {})
+    }
+
+    /// [`Microsurface::albedo`], calling `progress(n)` after each chunk of `n` walks (from any
+    /// thread).
+    pub fn albedo_with_progress(
+        &self,
+        wi: Vec3,
+        walks: u64,
+        seed: u64,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> AlbedoEstimate {
+        #[derive(Default)]
+        struct Acc {
+            r: Sums,
+            t: Sums,
+            bounces: u64,
+            escaped: u64,
+            truncated: f64,
+        }
+        let light_inside = wi.z < 0.0;
+        let n_chunks = walks.div_ceil(CHUNK);
+        let chunks: Vec<Acc> = (0..n_chunks)
+            .into_par_iter()
+            .map(|c| {
+                let mut rng = chunk_rng(seed, c);
+                let mut acc = Acc::default();
+                let n = chunk_len(walks, c);
+                for _ in 0..n {
+                    let (mut r, mut t) = (0.0, 0.0);
+                    match self.random_walk(wi, &mut rng) {
+                        WalkEnd::Escaped(s) if self.orders().includes(s.order) => {
+                            if (s.wo.z < 0.0) == light_inside {
+                                r = s.weight;
+                            } else {
+                                t = s.weight;
+                            }
+                            acc.bounces += u64::from(s.order);
+                            acc.escaped += 1;
+                        }
+                        WalkEnd::Truncated { weight } => acc.truncated += weight,
+                        _ => {}
+                    }
+                    acc.r.add(r);
+                    acc.t.add(t);
+                }
+                progress(n);
+                acc
+            })
+            .collect();
+        let mut total = Acc::default();
+        for a in &chunks {
+            total.r.merge(&a.r);
+            total.t.merge(&a.t);
+            total.bounces += a.bounces;
+            total.escaped += a.escaped;
+            total.truncated += a.truncated;
+        }
+        let (r, t) = (total.r.estimate(walks), total.t.estimate(walks));
+        AlbedoEstimate {
+            reflectance: r.mean,
+            transmittance: t.mean,
+            reflectance_stderr: r.stderr,
+            transmittance_stderr: t.stderr,
+            mean_bounces: if total.escaped > 0 {
+                total.bounces as f64 / total.escaped as f64
+            } else {
+                0.0
+            },
+            truncated: if walks > 0 {
+                total.truncated / walks as f64
+            } else {
+                0.0
+            },
+            walks,
+        }
+    }
+}

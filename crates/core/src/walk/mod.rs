@@ -1,0 +1,82 @@
+//! Multiple scattering on a Smith microsurface by the height-field random walk
+//! (Heitz et al. 2016, "Multiple-scattering microfacet BSDFs with the Smith model"), for any
+//! [`Ndf`](crate::ndf::Ndf) with visible-normal sampling on the whole sphere and any facet BSDF
+//! (d'Eon 2023).
+//!
+//! # The model
+//!
+//! The microsurface is a random height field whose normals follow the NDF, with uncorrelated
+//! heights and slopes (the Smith assumption). A ray at height `h` travelling along `w` (upward
+//! in the frame of the surface on its side) leaves the surface without hitting it with
+//! probability `G1(w, h) = C1(h)^Lambda(w)`, where `C1` is the height CDF; otherwise the height of
+//! its next hit follows by inverting that. At each hit the facet normal is drawn from the
+//! distribution of normals visible from the ray, and the facet BSDF scatters the ray. A facet
+//! that transmits (a dielectric) sends the ray to the other side of the interface, where it walks
+//! on the mirrored surface seen from below (Heitz et al. 2016, section 6).
+//!
+//! # Heights as depths
+//!
+//! The results do not depend on the height distribution, so the walk uses the uniform one and
+//! tracks it by its *depth* `t = -ln C1(h) >= 0` below the top of the surface on the walker's
+//! side. Then `G1(w, h) = exp(-t Lambda(w))`: free flights are exponential in `t` with rate
+//! `Lambda(w)` (a ray leaves when its flight takes it above `t = 0`), and crossing to the
+//! mirrored surface maps `t` to `-ln(1 - exp(-t))` (`C1` of the mirrored surface is
+//! `1 - C1(h)`). Depths keep full precision however deep a walk goes.
+//!
+//! # What is estimated
+//!
+//! `eval(wi, wo)` returns `f(wi, wo) |wo.z|` with no radiance `1/eta^2` scaling, as every
+//! [`Bsdf`](crate::bsdf::Bsdf) in this crate: the walk from `wi` adds, at every hit, the phase
+//! function toward `wo` times the probability of leaving toward `wo` from that height
+//! (next-event estimation). Walks are never cut at a fixed order; a safety cap of
+//! [`MAX_BOUNCES`] scattering events (far above any real path) ends runaway walks, and the
+//! estimators report the energy it drops.
+
+mod estimate;
+mod facet;
+mod microsurface;
+
+pub use estimate::{AlbedoEstimate, Estimate};
+pub use facet::{
+    BsdfFacet, ConductorFacet, DielectricFacet, Facet, FacetSample, Incidence, LambertianFacet,
+};
+pub use microsurface::{Microsurface, WalkEnd, WalkSample};
+
+/// Safety cap on the number of scattering events in one walk. No physical path comes near it
+/// (mean path lengths are a few events); a walk that reaches it is dropped and counted.
+pub const MAX_BOUNCES: u32 = 1_000_000;
+
+/// Which scattering orders a microsurface returns: paths with exactly one scattering event, with
+/// two or more, or all of them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ScatteringOrders {
+    /// Only paths that scatter exactly once (the single-scattering BSDF with height-correlated
+    /// masking).
+    Single,
+    /// Only paths that scatter two or more times.
+    Multiple,
+    /// Every path.
+    #[default]
+    All,
+}
+
+impl ScatteringOrders {
+    /// Whether a path with `order` scattering events is included.
+    #[inline]
+    pub fn includes(self, order: u32) -> bool {
+        match self {
+            Self::Single => order == 1,
+            Self::Multiple => order >= 2,
+            Self::All => order >= 1,
+        }
+    }
+
+    /// The highest order that can contribute: walks stop there.
+    #[inline]
+    pub fn last_order(self) -> u32 {
+        match self {
+            Self::Single => 1,
+            Self::Multiple | Self::All => MAX_BOUNCES,
+        }
+    }
+}
