@@ -45,7 +45,7 @@ impl Incidence {
     #[inline]
     pub fn visible_density<N: Ndf>(&self, ndf: &N, m: Vec3) -> f64 {
         let c = self.wi_side().dot(&m);
-        if c <= 0.0 || !(self.sigma > 0.0) {
+        if c <= 0.0 || self.sigma.is_nan() || self.sigma <= 0.0 {
             return 0.0;
         }
         c * ndf.d(m) / self.sigma
@@ -137,7 +137,7 @@ fn half_vector_reflect(wi: Vec3, wo: Vec3) -> Option<Vec3> {
 #[inline]
 fn outward_unit(v: Vec3) -> Option<Vec3> {
     let len = v.norm();
-    if !(len > 0.0) {
+    if len == 0.0 || !len.is_finite() {
         return None;
     }
     let h = v / len;

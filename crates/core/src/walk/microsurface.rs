@@ -183,7 +183,7 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
             if ws.z > 0.0 {
                 // Escape probability exp(-depth Lambda) = G1(w, h).
                 let next = depth - flight / lambda;
-                if !(next > 0.0) {
+                if next.is_nan() || next <= 0.0 {
                     return WalkEnd::Escaped(WalkSample {
                         wo: w,
                         weight,
