@@ -1,0 +1,214 @@
+//! White furnace tests: a microsurface of non-absorbing facets reflects and transmits all the
+//! light it receives, both as counted by sampled walks and as integrated from `eval`.
+
+use rand::{Rng, RngExt, SeedableRng};
+use rand_pcg::Pcg64;
+use std::f64::consts::PI;
+use stfit_core::Vec3;
+use stfit_core::bsdf::{Bsdf, fresnel_dielectric};
+use stfit_core::math::spherical_direction;
+use stfit_core::ndf::{Ggx, Ndf};
+use stfit_core::walk::{
+    BsdfFacet, ConductorFacet, DielectricFacet, Facet, LambertianFacet, Microsurface,
+};
+
+mod walk_cases;
+use walk_cases::ndfs;
+
+/// Incidence angles: from air and from inside.
+const THETAS: [f64; 2] = [0.9, PI - 0.6];
+
+/// Asserts that every walk leaves the surface with its full weight.
+fn assert_sampled_furnace<N: Ndf, F: Facet>(ms: &Microsurface<N, F>, wi: Vec3, what: &str) {
+    let a = ms.albedo(wi, 20_000, 1);
+    let total = a.reflectance + a.transmittance;
+    assert!((total - 1.0).abs() < 1e-12, "{what}: R + T = {total}");
+    assert_eq!(a.truncated, 0.0, "{what}");
+    assert!(
+        a.mean_bounces >= 1.0 && a.mean_bounces.is_finite(),
+        "{what}"
+    );
+}
+
+/// Estimates `integral eval(wi, wo) dwo` over the sphere, drawing `wo` from the mixture
+/// `q = (1 - u) p + u / (4 pi)` of a sampler `draw` of known density `p` and the uniform sphere.
+fn eval_integral<N: Ndf, F: Facet>(
+    ms: &Microsurface<N, F>,
+    wi: Vec3,
+    draw: impl Fn(&mut Pcg64) -> Option<Vec3>,
+    p: impl Fn(Vec3) -> f64,
+    u: f64,
+    n: usize,
+) -> (f64, f64) {
+    let mut rng = Pcg64::seed_from_u64(2024);
+    let (mut s1, mut s2) = (0.0, 0.0);
+    for _ in 0..n {
+        let wo = if rng.random::<f64>() < u {
+            uniform_sphere(&mut rng)
+        } else {
+            match draw(&mut rng) {
+                Some(wo) => wo,
+                None => uniform_sphere(&mut rng),
+            }
+        };
+        let q = (1.0 - u) * p(wo) + u / (4.0 * PI);
+        let x = ms.eval(wi, wo, &mut rng) / q;
+        s1 += x;
+        s2 += x * x;
+    }
+    let mean = s1 / n as f64;
+    (mean, ((s2 / n as f64 - mean * mean) / n as f64).sqrt())
+}
+
+fn uniform_sphere<R: Rng + ?Sized>(rng: &mut R) -> Vec3 {
+    let z = 1.0 - 2.0 * rng.random::<f64>();
+    spherical_direction(z.acos(), 2.0 * PI * rng.random::<f64>())
+}
+
+/// The first-scattering direction density of a smooth dielectric microsurface lit from `wi`
+/// (reflection and refraction at one visible facet, whichever side the light leaves on),
+/// written independently of the library's phase functions.
+fn first_bounce_density<N: Ndf>(ndf: &N, eta: f64, wi: Vec3, wo: Vec3) -> f64 {
+    let inside = wi.z < 0.0;
+    let s = if inside { -1.0 } else { 1.0 };
+    let wi_side = wi * s;
+    let sigma = ndf.sigma(wi_side);
+    let outward = |v: Vec3| {
+        let h = v.normalize();
+        if h.z < 0.0 { -h } else { h }
+    };
+    let mut total = 0.0;
+    // Reflection.
+    let h = outward(wi + wo);
+    if wi_side.dot(&h) > 0.0 && s * wo.dot(&h) > 0.0 {
+        total += fresnel_dielectric(wi.dot(&h), eta) * ndf.d(h) / (4.0 * sigma);
+    }
+    // Refraction into the other medium.
+    let (n_i, n_t) = if inside { (eta, 1.0) } else { (1.0, eta) };
+    let h = outward(-(wi * n_i + wo * n_t));
+    let (hi, ho) = (wi.dot(&h), wo.dot(&h));
+    if s * hi > 0.0 && s * ho < 0.0 {
+        let d_vis = s * hi * ndf.d(h) / sigma;
+        let denom = n_i * hi + n_t * ho;
+        total +=
+            (1.0 - fresnel_dielectric(hi, eta)) * d_vis * ho.abs() * n_t * n_t / (denom * denom);
+    }
+    total
+}
+
+#[test]
+fn dielectric_furnace_every_ndf_roughness_side_and_index() {
+    for ndf in ndfs(&[0.1, 0.5, 1.0, 2.0]) {
+        for eta in [1.51, 1.0 / 1.51] {
+            let facet = DielectricFacet::new(eta).unwrap();
+            let ms = Microsurface::new(ndf, facet);
+            for theta in THETAS {
+                let wi = spherical_direction(theta, 0.0);
+                let what = format!("{ndf:?} eta {eta} theta {theta}");
+                assert_sampled_furnace(&ms, wi, &what);
+                let wi_side = if wi.z < 0.0 { -wi } else { wi };
+                let draw = |rng: &mut Pcg64| {
+                    let m = ndf.sample_visible(wi_side, rng);
+                    facet.sample(wi, m, rng).map(|s| s.wo)
+                };
+                let p = |wo| first_bounce_density(&ndf, eta, wi, wo);
+                let (mean, se) = eval_integral(&ms, wi, draw, p, 0.3, 100_000);
+                eprintln!("FURNACE {what}: {mean:.4} +- {se:.4}");
+                assert!(
+                    (mean - 1.0).abs() <= 4.0 * se && se < 0.02,
+                    "{what}: integral of eval {mean} +- {se}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn mirror_furnace() {
+    for ndf in ndfs(&[0.1, 0.5, 1.0, 2.0]) {
+        let ms = Microsurface::new(ndf, ConductorFacet::mirror());
+        let wi = spherical_direction(1.0, 0.0);
+        let what = format!("mirror {ndf:?}");
+        assert_sampled_furnace(&ms, wi, &what);
+        let a = ms.albedo(wi, 1000, 3);
+        assert_eq!(a.reflectance, 1.0, "{what}");
+        let draw = |rng: &mut Pcg64| {
+            let m = ndf.sample_visible(wi, rng);
+            Some(m * (2.0 * wi.dot(&m)) - wi)
+        };
+        let p = |wo: Vec3| {
+            let h = (wi + wo).normalize();
+            if wi.dot(&h) > 0.0 {
+                ndf.d(h) / (4.0 * ndf.sigma(wi))
+            } else {
+                0.0
+            }
+        };
+        let (mean, se) = eval_integral(&ms, wi, draw, p, 0.3, 100_000);
+        eprintln!("FURNACE {what}: {mean:.4} +- {se:.4}");
+        assert!(
+            (mean - 1.0).abs() <= 4.0 * se && se < 0.02,
+            "{what}: integral of eval {mean} +- {se}"
+        );
+    }
+}
+
+/// Cosine-weighted directions on the upper hemisphere.
+fn cosine_upper(rng: &mut Pcg64) -> Option<Vec3> {
+    let u: f64 = rng.random();
+    let r = u.sqrt();
+    let phi = 2.0 * PI * rng.random::<f64>();
+    Some(Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u).sqrt()))
+}
+
+#[test]
+fn lambertian_facets_with_albedo_one_conserve_energy() {
+    for alpha in [0.3, 1.0, 2.0] {
+        let ndf = Ggx::new(alpha).unwrap();
+        let ms = Microsurface::new(ndf, LambertianFacet::new(1.0).unwrap());
+        for theta in [0.0, 1.2] {
+            let wi = spherical_direction(theta, 0.5);
+            let what = format!("lambertian alpha {alpha} theta {theta}");
+            assert_sampled_furnace(&ms, wi, &what);
+            assert_eq!(ms.albedo(wi, 1000, 3).reflectance, 1.0, "{what}");
+            let p = |wo: Vec3| wo.z.max(0.0) / PI;
+            let (mean, se) = eval_integral(&ms, wi, cosine_upper, p, 0.2, 20_000);
+            eprintln!("FURNACE {what}: {mean:.4} +- {se:.4}");
+            assert!(
+                (mean - 1.0).abs() <= 4.0 * se && se < 0.02,
+                "{what}: integral of eval {mean} +- {se}"
+            );
+        }
+    }
+    // A grey Lambertian surface reflects less than its facets' albedo would alone.
+    let ms = Microsurface::new(Ggx::new(1.0).unwrap(), LambertianFacet::new(0.5).unwrap());
+    let a = ms.albedo(Vec3::z(), 20_000, 4);
+    assert!(a.reflectance < 0.5 && a.reflectance > 0.3, "{a:?}");
+}
+
+#[test]
+fn biscale_dielectric_passes_the_furnace() {
+    let inner = Microsurface::new(Ggx::new(0.3).unwrap(), DielectricFacet::new(1.51).unwrap());
+    let ndf = Ggx::new(0.6).unwrap();
+    let ms = Microsurface::new(ndf, BsdfFacet(inner));
+    for theta in THETAS {
+        let wi = spherical_direction(theta, 0.0);
+        let what = format!("bi-scale theta {theta}");
+        assert_sampled_furnace(&ms, wi, &what);
+        // Single-scale roughness sqrt(0.6^2 + 0.3^2) approximates the lobe for sampling.
+        let approx = Ggx::new(0.67).unwrap();
+        let facet = DielectricFacet::new(1.51).unwrap();
+        let wi_side = if wi.z < 0.0 { -wi } else { wi };
+        let draw = |rng: &mut Pcg64| {
+            let m = approx.sample_visible(wi_side, rng);
+            facet.sample(wi, m, rng).map(|s| s.wo)
+        };
+        let p = |wo| first_bounce_density(&approx, 1.51, wi, wo);
+        let (mean, se) = eval_integral(&ms, wi, draw, p, 0.3, 100_000);
+        eprintln!("FURNACE {what}: {mean:.4} +- {se:.4}");
+        assert!(
+            (mean - 1.0).abs() <= 4.0 * se && se < 0.02,
+            "{what}: integral of eval {mean} +- {se}"
+        );
+    }
+}
