@@ -1,0 +1,158 @@
+//! `stfit albedo`: fractions of the incident flux that a rough dielectric reflects and transmits,
+//! by the height-field random walk.
+
+use clap::ValueEnum;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::error::Error;
+use std::io::IsTerminal;
+use stfit_core::Vec3;
+use stfit_core::math::radians;
+use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
+use stfit_core::walk::{AlbedoEstimate, DielectricFacet, Microsurface, ScatteringOrders};
+
+/// The NDF family.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum NdfKind {
+    Beckmann,
+    Ggx,
+    StudentT,
+}
+
+/// Scattering orders to count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Scattering {
+    /// Paths that scatter exactly once.
+    Single,
+    /// Paths that scatter two or more times.
+    Multiple,
+    /// Every path.
+    All,
+}
+
+impl From<Scattering> for ScatteringOrders {
+    fn from(s: Scattering) -> Self {
+        match s {
+            Scattering::Single => Self::Single,
+            Scattering::Multiple => Self::Multiple,
+            Scattering::All => Self::All,
+        }
+    }
+}
+
+/// The random walk.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Walk {
+    /// The height-field walk of Heitz et al. 2016.
+    Heightfield,
+}
+
+/// Arguments of `stfit albedo`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// NDF family.
+    #[arg(long, value_enum)]
+    pub ndf: NdfKind,
+    /// Roughness alpha (> 0).
+    #[arg(long, allow_negative_numbers = true)]
+    pub alpha: f64,
+    /// Student-T shape gamma (> 3/2); required for student-t, rejected otherwise.
+    #[arg(long, allow_negative_numbers = true)]
+    pub gamma: Option<f64>,
+    /// Relative index n_inside / n_outside (> 0, != 1).
+    #[arg(long, allow_negative_numbers = true)]
+    pub eta: f64,
+    /// Incidence angle in degrees from the outward normal, in [0, 180] except 90; above 90 the
+    /// light comes from inside.
+    #[arg(long = "theta-i", allow_negative_numbers = true)]
+    pub theta_i: f64,
+    /// Scattering orders to count.
+    #[arg(long, value_enum, default_value_t = Scattering::All)]
+    pub scattering: Scattering,
+    /// The random walk.
+    #[arg(long, value_enum, default_value_t = Walk::Heightfield)]
+    pub walk: Walk,
+    /// Number of walks.
+    #[arg(long, default_value_t = 1_000_000)]
+    pub samples: u64,
+    /// Seed of the random numbers.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `stfit albedo`.
+pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
+    let theta = args.theta_i;
+    if !theta.is_finite() || !(0.0..=180.0).contains(&theta) || theta == 90.0 {
+        return Err(format!("--theta-i must be in [0, 180] and not 90, got {theta}").into());
+    }
+    if args.samples == 0 {
+        return Err("--samples must be at least 1".into());
+    }
+    let t = radians(theta);
+    let wi = Vec3::new(-t.sin(), 0.0, t.cos());
+    let facet = DielectricFacet::new(args.eta)?;
+    let result = match (args.ndf, args.gamma) {
+        (NdfKind::Beckmann, None) => estimate(Beckmann::new(args.alpha)?, facet, wi, args),
+        (NdfKind::Ggx, None) => estimate(Ggx::new(args.alpha)?, facet, wi, args),
+        (NdfKind::StudentT, Some(g)) => estimate(StudentT::new(args.alpha, g)?, facet, wi, args),
+        (NdfKind::StudentT, None) => return Err("--gamma is required for student-t".into()),
+        (_, Some(_)) => return Err("--gamma applies only to student-t".into()),
+    };
+    print(args, &result);
+    Ok(())
+}
+
+/// Runs the walks, with a progress bar when both output streams are terminals.
+fn estimate<N: Ndf>(ndf: N, facet: DielectricFacet, wi: Vec3, args: &Args) -> AlbedoEstimate {
+    let ms = Microsurface::new(ndf, facet).with_orders(args.scattering.into());
+    let show = !args.json
+        && std::io::stdout().is_terminal()
+        && std::io::stderr().is_terminal()
+        && args.samples >= 1_000_000;
+    if !show {
+        return ms.albedo(wi, args.samples, args.seed);
+    }
+    let bar = ProgressBar::new(args.samples);
+    if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} walks, eta {eta}") {
+        bar.set_style(style);
+    }
+    let result = ms.albedo_with_progress(wi, args.samples, args.seed, &|n| bar.inc(n));
+    bar.finish_and_clear();
+    result
+}
+
+fn print(args: &Args, a: &AlbedoEstimate) {
+    if args.json {
+        let v = serde_json::json!({
+            "reflectance": a.reflectance,
+            "transmittance": a.transmittance,
+            "reflectance_stderr": a.reflectance_stderr,
+            "transmittance_stderr": a.transmittance_stderr,
+            "mean_bounces": a.mean_bounces,
+            "truncated": a.truncated,
+            "samples": a.walks,
+            "seed": args.seed,
+        });
+        println!("{v}");
+    } else {
+        println!(
+            "reflectance    {:.6} +- {:.6}",
+            a.reflectance, a.reflectance_stderr
+        );
+        println!(
+            "transmittance  {:.6} +- {:.6}",
+            a.transmittance, a.transmittance_stderr
+        );
+        println!("mean bounces   {:.4}", a.mean_bounces);
+        println!("walks          {}", a.walks);
+        if a.truncated > 0.0 {
+            println!(
+                "truncated      {:.3e} of the flux (walks past the safety cap)",
+                a.truncated
+            );
+        }
+    }
+}

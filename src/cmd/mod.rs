@@ -1,0 +1,3 @@
+//! Subcommands of the `stfit` binary.
+
+pub mod albedo;

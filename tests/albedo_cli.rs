@@ -1,0 +1,175 @@
+//! End-to-end tests of `stfit albedo`.
+
+use std::process::{Command, Output};
+
+fn stfit(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_stfit"))
+        .args(args)
+        .output()
+        .expect("the stfit binary runs")
+}
+
+fn albedo_json(extra: &[&str]) -> serde_json::Value {
+    let mut args = vec![
+        "albedo",
+        "--json",
+        "--walk",
+        "heightfield",
+        "--samples",
+        "40000",
+    ];
+    args.extend_from_slice(extra);
+    let out = stfit(&args);
+    assert!(
+        out.status.success(),
+        "stfit {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // Piped output: no progress bar or other noise on stderr.
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
+}
+
+fn num(v: &serde_json::Value, key: &str) -> f64 {
+    v[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("key {key} missing in {v}"))
+}
+
+#[test]
+fn json_has_the_documented_keys_and_conserves_energy() {
+    for (ndf, theta, eta) in [
+        ("ggx", "60", "1.51"),
+        ("ggx", "150", "1.51"),
+        ("ggx", "20", "0.6622516556291391"),
+        ("ggx", "120", "0.6622516556291391"),
+    ] {
+        let v = albedo_json(&[
+            "--ndf",
+            ndf,
+            "--alpha",
+            "0.45",
+            "--eta",
+            eta,
+            "--theta-i",
+            theta,
+            "--scattering",
+            "all",
+        ]);
+        for key in [
+            "reflectance",
+            "transmittance",
+            "reflectance_stderr",
+            "transmittance_stderr",
+            "mean_bounces",
+        ] {
+            assert!(num(&v, key).is_finite(), "{key} in {v}");
+        }
+        let (r, t) = (num(&v, "reflectance"), num(&v, "transmittance"));
+        assert!((r + t - 1.0).abs() < 1e-12, "{v}");
+        assert!(r > 0.0 && t > 0.0, "{v}");
+        assert!(num(&v, "mean_bounces") >= 1.0, "{v}");
+    }
+}
+
+#[test]
+fn single_plus_multiple_is_all_and_same_seed_repeats() {
+    let base = [
+        "--ndf",
+        "ggx",
+        "--alpha",
+        "0.8",
+        "--eta",
+        "1.51",
+        "--theta-i",
+        "45",
+    ];
+    let run = |s: &str, seed: &str| {
+        let mut a = base.to_vec();
+        a.extend_from_slice(&["--scattering", s, "--seed", seed]);
+        albedo_json(&a)
+    };
+    let all = run("all", "3");
+    assert_eq!(all, run("all", "3"));
+    let single = run("single", "4");
+    let multi = run("multiple", "5");
+    assert_eq!(num(&single, "mean_bounces"), 1.0);
+    assert!(num(&multi, "mean_bounces") >= 2.0);
+    for key in ["reflectance", "transmittance"] {
+        let se = |v: &serde_json::Value| num(v, &format!("{key}_stderr"));
+        let diff = num(&all, key) - num(&single, key) - num(&multi, key);
+        let tol = 4.0 * (se(&all).powi(2) + se(&single).powi(2) + se(&multi).powi(2)).sqrt();
+        assert!(diff.abs() <= tol, "{key}: {diff} > {tol}");
+    }
+}
+
+#[test]
+fn text_output_reports_both_fractions() {
+    let out = stfit(&[
+        "albedo",
+        "--ndf",
+        "ggx",
+        "--alpha",
+        "0.3",
+        "--eta",
+        "1.5",
+        "--theta-i",
+        "0",
+        "--samples",
+        "5000",
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("reflectance") && text.contains("transmittance"),
+        "{text}"
+    );
+}
+
+#[test]
+fn bad_arguments_are_errors() {
+    let ok = [
+        "--ndf",
+        "ggx",
+        "--alpha",
+        "0.5",
+        "--eta",
+        "1.5",
+        "--theta-i",
+        "30",
+    ];
+    let cases: &[(&[&str], &str)] = &[
+        (&["--alpha", "0"], "alpha"),
+        (&["--alpha", "-1"], "alpha"),
+        (&["--alpha", "nan"], "alpha"),
+        (&["--eta", "1"], "eta"),
+        (&["--eta", "-2"], "eta"),
+        (&["--theta-i", "90"], "theta"),
+        (&["--theta-i", "181"], "theta"),
+        (&["--gamma", "3"], "gamma"),
+        (&["--ndf", "student-t"], "gamma"),
+        (&["--ndf", "student-t", "--gamma", "1.5"], "gamma"),
+        (&["--scattering", "double"], "scattering"),
+        (&["--walk", "null"], "walk"),
+        (&["--samples", "0"], "samples"),
+    ];
+    for (over, word) in cases {
+        // The valid arguments, with those named in `over` replaced.
+        let mut args = vec!["albedo"];
+        for pair in ok.chunks(2) {
+            if !over.contains(&pair[0]) {
+                args.extend_from_slice(pair);
+            }
+        }
+        args.extend_from_slice(over);
+        let out = stfit(&args);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(word), "{args:?}: {err}");
+        assert!(out.stdout.is_empty(), "{args:?}");
+    }
+}
