@@ -80,6 +80,16 @@ impl Hit {
             (self.depth, other)
         }
     }
+
+    /// Depth of the hit point below the top of the lower surface if `inside`, else the upper.
+    #[inline]
+    pub fn depth_on(&self, inside: bool) -> f64 {
+        if inside == self.inc.inside {
+            self.depth
+        } else {
+            mirrored_depth(self.depth)
+        }
+    }
 }
 
 /// A direction toward which next-event estimation is done, with its Smith Lambda.
@@ -114,6 +124,12 @@ impl Target {
     pub fn escape(&self, depth_out: f64, depth_in: f64) -> f64 {
         let depth = if self.inside { depth_in } else { depth_out };
         (-depth * self.lambda).exp()
+    }
+
+    /// [`Target::escape`] from a hit.
+    #[inline]
+    pub fn escape_from(&self, hit: &Hit) -> f64 {
+        (-hit.depth_on(self.inside) * self.lambda).exp()
     }
 }
 
@@ -275,8 +291,7 @@ impl<N: Ndf, F: Facet> Bsdf for Microsurface<N, F> {
             }
             let p = self.facet.phase(&self.ndf, &hit.inc, wo, rng);
             if p > 0.0 {
-                let (d_out, d_in) = hit.depths();
-                sum += hit.weight * p * target.escape(d_out, d_in);
+                sum += hit.weight * p * target.escape_from(hit);
             }
         });
         sum
@@ -307,8 +322,7 @@ impl<N: Ndf, F: Facet> Bsdf for Microsurface<N, F> {
             }
             let p = self.facet.phase_pdf(&self.ndf, &hit.inc, wo, rng);
             if p > 0.0 {
-                let (d_out, d_in) = hit.depths();
-                sum += p * target.escape(d_out, d_in);
+                sum += p * target.escape_from(hit);
             }
         });
         sum
