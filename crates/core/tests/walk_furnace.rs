@@ -40,6 +40,17 @@ fn eval_integral<N: Ndf, F: Facet>(
     u: f64,
     n: usize,
 ) -> (f64, f64) {
+    integral(|wo, rng| ms.eval(wi, wo, rng), draw, p, u, n)
+}
+
+/// Estimates `integral f(wo) dwo` for a stochastic `f` as [`eval_integral`] does.
+fn integral(
+    f: impl Fn(Vec3, &mut Pcg64) -> f64,
+    draw: impl Fn(&mut Pcg64) -> Option<Vec3>,
+    p: impl Fn(Vec3) -> f64,
+    u: f64,
+    n: usize,
+) -> (f64, f64) {
     let mut rng = Pcg64::seed_from_u64(2024);
     let (mut s1, mut s2) = (0.0, 0.0);
     for _ in 0..n {
@@ -52,7 +63,7 @@ fn eval_integral<N: Ndf, F: Facet>(
             }
         };
         let q = (1.0 - u) * p(wo) + u / (4.0 * PI);
-        let x = ms.eval(wi, wo, &mut rng) / q;
+        let x = f(wo, &mut rng) / q;
         s1 += x;
         s2 += x * x;
     }
@@ -210,5 +221,57 @@ fn biscale_dielectric_passes_the_furnace() {
             (mean - 1.0).abs() <= 4.0 * se && se < 0.02,
             "{what}: integral of eval {mean} +- {se}"
         );
+    }
+}
+
+#[test]
+fn pdf_is_the_density_of_sampled_directions_for_grey_lambertian_facets() {
+    // Sample weights are 0.6 per bounce, so eval integrates to the albedo but the density of
+    // the directions `sample` returns integrates to 1.
+    let ms = Microsurface::new(Ggx::new(1.0).unwrap(), LambertianFacet::new(0.6).unwrap());
+    let wi = spherical_direction(0.8, 0.0);
+    let cos = |wo: Vec3| wo.z.max(0.0) / PI;
+    let (pdf, se) = integral(
+        |wo, rng| ms.pdf(wi, wo, rng),
+        cosine_upper,
+        cos,
+        0.2,
+        20_000,
+    );
+    eprintln!("FURNACE grey lambertian pdf: {pdf:.4} +- {se:.4}");
+    assert!(
+        (pdf - 1.0).abs() <= 4.0 * se && se < 0.02,
+        "pdf integral {pdf} +- {se}"
+    );
+    let a = ms.albedo(wi, 20_000, 9);
+    let (ev, se) = eval_integral(&ms, wi, cosine_upper, cos, 0.2, 20_000);
+    let tol = 4.0 * (se * se + a.reflectance_stderr.powi(2)).sqrt();
+    assert!((ev - a.reflectance).abs() <= tol, "eval {ev}, albedo {a:?}");
+    assert!(a.reflectance < 0.6 && a.transmittance == 0.0, "{a:?}");
+    // Bsdf::sample reports the pdf estimate and the path weight.
+    let mut rng = Pcg64::seed_from_u64(3);
+    let mut positive = 0;
+    for _ in 0..1000 {
+        let s = ms
+            .sample(wi, &mut rng)
+            .expect("every walk leaves a Lambertian surface");
+        assert!(!s.delta && s.wo.z > 0.0 && s.pdf >= 0.0);
+        assert!(s.weight <= 0.6 + 1e-15 && s.weight > 0.0);
+        positive += usize::from(s.pdf > 0.0);
+    }
+    // One-normal estimates of a Lambertian facet's phase are 0 when the drawn facet faces away
+    // from wo; most are positive.
+    assert!(positive > 800, "{positive} positive pdf estimates of 1000");
+}
+
+#[test]
+fn pdf_equals_eval_for_a_dielectric() {
+    // Unit sample weights: the two estimators coincide draw for draw.
+    let ms = Microsurface::new(Ggx::new(0.4).unwrap(), DielectricFacet::new(1.51).unwrap());
+    let wi = spherical_direction(0.5, 0.0);
+    for wo in [spherical_direction(2.8, 0.1), spherical_direction(0.6, 3.0)] {
+        let e = ms.eval(wi, wo, &mut Pcg64::seed_from_u64(8));
+        let p = ms.pdf(wi, wo, &mut Pcg64::seed_from_u64(8));
+        assert!(e > 0.0 && e == p, "{e} vs {p}");
     }
 }
