@@ -275,3 +275,29 @@ fn pdf_equals_eval_for_a_dielectric() {
         assert!(e > 0.0 && e == p, "{e} vs {p}");
     }
 }
+
+#[test]
+fn flux_dropped_at_the_safety_cap_is_counted() {
+    let ndf = Ggx::new(1.0).unwrap();
+    let ms = Microsurface::new(ndf, DielectricFacet::new(1.51).unwrap());
+    let wi = spherical_direction(1.2, 0.0);
+    assert!(ms.with_max_bounces(0).is_err());
+    let full = ms.albedo(wi, 20_000, 6);
+    assert_eq!(full.truncated, 0.0);
+    for cap in [1, 2, 3] {
+        let capped = ms.with_max_bounces(cap).unwrap().albedo(wi, 20_000, 6);
+        let total = capped.reflectance + capped.transmittance + capped.truncated;
+        assert!((total - 1.0).abs() < 1e-12, "cap {cap}: {capped:?}");
+        assert!(capped.truncated > 0.0, "cap {cap}: {capped:?}");
+    }
+    // With a cap of one event, the multiply scattered flux is dropped (weights are 1, so the
+    // dropped fraction is a binomial proportion).
+    let capped = ms.with_max_bounces(1).unwrap().albedo(wi, 20_000, 6);
+    let multiple = ms
+        .with_orders(stfit_core::walk::ScatteringOrders::Multiple)
+        .albedo(wi, 20_000, 7);
+    let dropped = multiple.reflectance + multiple.transmittance;
+    let t = capped.truncated;
+    let se = (t * (1.0 - t) / 20_000.0 + dropped * (1.0 - dropped) / 20_000.0).sqrt();
+    assert!((t - dropped).abs() <= 4.0 * se, "{capped:?} {multiple:?}");
+}

@@ -34,8 +34,8 @@ pub struct AlbedoEstimate {
     pub transmittance_stderr: f64,
     /// Mean number of scattering events of the walks that contributed.
     pub mean_bounces: f64,
-    /// Fraction of the incident flux dropped by walks that reached
-    /// [`MAX_BOUNCES`](super::MAX_BOUNCES).
+    /// Fraction of the incident flux dropped by walks that reached the safety cap
+    /// ([`MAX_BOUNCES`](super::MAX_BOUNCES) by default).
     pub truncated: f64,
     /// Number of walks.
     pub walks: u64,

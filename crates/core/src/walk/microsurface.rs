@@ -2,6 +2,7 @@
 
 use super::{Facet, Incidence, MAX_BOUNCES, ScatteringOrders};
 use crate::bsdf::{Bsdf, BsdfSample};
+use crate::error::ParamError;
 use crate::math::Vec3;
 use crate::ndf::Ndf;
 use rand::{Rng, RngExt};
@@ -31,6 +32,7 @@ pub struct Microsurface<N, F> {
     ndf: N,
     facet: F,
     orders: ScatteringOrders,
+    max_bounces: u32,
 }
 
 /// A direction returned by a walk.
@@ -53,7 +55,8 @@ pub enum WalkEnd {
     Stopped,
     /// A facet absorbed the walker.
     Absorbed,
-    /// The walker reached [`MAX_BOUNCES`]; `weight` is the throughput dropped.
+    /// The walker was about to scatter past the safety cap ([`MAX_BOUNCES`] unless set with
+    /// [`Microsurface::with_max_bounces`]); `weight` is the throughput dropped.
     Truncated { weight: f64 },
 }
 
@@ -153,12 +156,35 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
             ndf,
             facet,
             orders: ScatteringOrders::All,
+            max_bounces: MAX_BOUNCES,
         }
     }
 
     /// The same microsurface restricted to the given scattering orders.
     pub fn with_orders(self, orders: ScatteringOrders) -> Self {
         Self { orders, ..self }
+    }
+
+    /// The same microsurface with another safety cap on the number of scattering events per
+    /// walk (default [`MAX_BOUNCES`]); walks that reach it end as [`WalkEnd::Truncated`] and the
+    /// estimators report the flux they drop. For tests of that accounting: real paths need no cap.
+    pub fn with_max_bounces(self, max_bounces: u32) -> Result<Self, ParamError> {
+        if max_bounces == 0 || max_bounces == u32::MAX {
+            return Err(ParamError::OutOfRange {
+                name: "max_bounces",
+                value: f64::from(max_bounces),
+                expected: "in [1, 2^32 - 2]",
+            });
+        }
+        Ok(Self {
+            max_bounces,
+            ..self
+        })
+    }
+
+    /// The safety cap on scattering events per walk.
+    pub fn max_bounces(&self) -> u32 {
+        self.max_bounces
     }
 
     /// The NDF.
@@ -212,11 +238,11 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
                 depth -= flight / lambda;
             }
             order += 1;
-            if order > MAX_BOUNCES {
-                return WalkEnd::Truncated { weight };
-            }
             if order > last {
                 return WalkEnd::Stopped;
+            }
+            if order > self.max_bounces {
+                return WalkEnd::Truncated { weight };
             }
             // sigma(-ws) = ws.z Lambda(ws), by sigma(v) = v.z (1 + Lambda(v)) and
             // Lambda(-v) = -1 - Lambda(v).

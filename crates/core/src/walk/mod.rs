@@ -76,7 +76,7 @@ impl ScatteringOrders {
     pub fn last_order(self) -> u32 {
         match self {
             Self::Single => 1,
-            Self::Multiple | Self::All => MAX_BOUNCES,
+            Self::Multiple | Self::All => u32::MAX,
         }
     }
 }
