@@ -102,6 +102,7 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
         let targets: Vec<Option<Target>> =
             wos.iter().map(|&wo| Target::new(self.ndf(), wo)).collect();
         let k = wos.len();
+        let start = (wi.z != 0.0).then(|| self.start(wi));
         let n_chunks = walks.div_ceil(CHUNK);
         let chunk_sums: Vec<Vec<Sums>> = (0..n_chunks)
             .into_par_iter()
@@ -111,8 +112,8 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
                 let mut acc = vec![0.0f64; k];
                 for _ in 0..chunk_len(walks, c) {
                     acc.fill(0.0);
-                    if wi.z != 0.0 {
-                        self.walk(wi, &mut rng, |hit, rng| {
+                    if let Some(start) = &start {
+                        self.walk(start, &mut rng, |hit, rng| {
                             if !self.orders().includes(hit.order) {
                                 return;
                             }
@@ -165,6 +166,7 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
             truncated: f64,
         }
         let light_inside = wi.z < 0.0;
+        let start = (wi.z != 0.0).then(|| self.start(wi));
         let n_chunks = walks.div_ceil(CHUNK);
         let chunks: Vec<Acc> = (0..n_chunks)
             .into_par_iter()
@@ -174,7 +176,11 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
                 let n = chunk_len(walks, c);
                 for _ in 0..n {
                     let (mut r, mut t) = (0.0, 0.0);
-                    match self.random_walk(wi, &mut rng) {
+                    let end = match &start {
+                        Some(start) => self.walk(start, &mut rng, |_, _| {}),
+                        None => WalkEnd::Absorbed,
+                    };
+                    match end {
                         WalkEnd::Escaped(s) if self.orders().includes(s.order) => {
                             if (s.wo.z < 0.0) == light_inside {
                                 r = s.weight;

@@ -95,6 +95,15 @@ impl Hit {
     }
 }
 
+/// What every walk from one incident direction shares.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Start {
+    /// Direction toward the light (`wi.z != 0`).
+    pub wi: Vec3,
+    /// `Lambda` of the first flight, into the surface on the light's side.
+    pub lambda: f64,
+}
+
 /// A direction toward which next-event estimation is done, with its Smith Lambda.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Target {
@@ -202,25 +211,40 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
         self.orders
     }
 
-    /// The random walk of light arriving from `wi` (`wi.z != 0`), calling `visit` at every
-    /// scattering event up to the last selected order, before the walker scatters there.
+    /// The start of walks from `wi` (`wi.z != 0`), shared by every walk from `wi`.
+    #[inline]
+    pub(crate) fn start(&self, wi: Vec3) -> Start {
+        let inside = wi.z < 0.0;
+        let ws = if inside { wi } else { -wi };
+        Start {
+            wi,
+            lambda: self.ndf.lambda(ws),
+        }
+    }
+
+    /// The random walk of light arriving from `start.wi`, calling `visit` at every scattering
+    /// event up to the last selected order, before the walker scatters there.
     #[inline]
     pub(crate) fn walk<R: Rng + ?Sized>(
         &self,
-        wi: Vec3,
+        start: &Start,
         rng: &mut R,
         mut visit: impl FnMut(&Hit, &mut R),
     ) -> WalkEnd {
         let last = self.orders.last_order();
-        let mut w = -wi;
-        let mut inside = wi.z < 0.0;
+        let mut w = -start.wi;
+        let mut inside = start.wi.z < 0.0;
         let mut depth = 0.0f64;
         let mut weight = 1.0f64;
         let mut order = 0u32;
         loop {
             // Travel along w in the frame of the surface on the walker's side.
             let ws = if inside { -w } else { w };
-            let lambda = self.ndf.lambda(ws);
+            let lambda = if order == 0 {
+                start.lambda
+            } else {
+                self.ndf.lambda(ws)
+            };
             let flight: f64 = rng.sample(Exp1);
             if ws.z > 0.0 {
                 // Escape probability exp(-depth Lambda) = G1(w, h).
@@ -288,7 +312,7 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
         if wi.z == 0.0 {
             return WalkEnd::Absorbed;
         }
-        self.walk(wi, rng, |_, _| {})
+        self.walk(&self.start(wi), rng, |_, _| {})
     }
 
     /// The exit of one random walk from `wi` if its order is selected: the fast core of
@@ -311,7 +335,7 @@ impl<N: Ndf, F: Facet> Bsdf for Microsurface<N, F> {
             return 0.0;
         }
         let mut sum = 0.0;
-        self.walk(wi, rng, |hit, rng| {
+        self.walk(&self.start(wi), rng, |hit, rng| {
             if !self.orders.includes(hit.order) {
                 return;
             }
@@ -342,7 +366,7 @@ impl<N: Ndf, F: Facet> Bsdf for Microsurface<N, F> {
             return 0.0;
         }
         let mut sum = 0.0;
-        self.walk(wi, rng, |hit, rng| {
+        self.walk(&self.start(wi), rng, |hit, rng| {
             if !self.orders.includes(hit.order) {
                 return;
             }

@@ -16,12 +16,15 @@
 //!
 //! # Heights as depths
 //!
-//! The results do not depend on the height distribution, so the walk uses the uniform one and
-//! tracks it by its *depth* `t = -ln C1(h) >= 0` below the top of the surface on the walker's
-//! side. Then `G1(w, h) = exp(-t Lambda(w))`: free flights are exponential in `t` with rate
-//! `Lambda(w)` (a ray leaves when its flight takes it above `t = 0`), and crossing to the
-//! mirrored surface maps `t` to `-ln(1 - exp(-t))` (`C1` of the mirrored surface is
-//! `1 - C1(h)`). Depths keep full precision however deep a walk goes.
+//! The walk sees heights only through the height CDF `C1(h)`, so it tracks the *depth*
+//! `t = -ln C1(h) >= 0` below the top of the surface on the walker's side. This is the same walk
+//! for every continuous height distribution (uniform heights are `h = 2 exp(-t) - 1`, Gaussian
+//! heights `h = Phi^-1(exp(-t))`), which is why results do not depend on the choice. Then
+//! `G1(w, h) = exp(-t Lambda(w))`: free flights are exponential in `t` with rate `Lambda(w)` (a
+//! ray leaves when its flight takes it above `t = 0`; downward, `Lambda <= -1` and it always
+//! hits), and crossing to the mirrored surface maps `t` to `-ln(1 - exp(-t))` (the mirrored
+//! surface has height CDF `1 - C1(h)`). Depths keep full precision however deep a walk goes,
+//! where a height near the bottom of a uniform distribution would round to it.
 //!
 //! # What is estimated
 //!
