@@ -4,6 +4,7 @@
 //! Facet normals `m` are *outward*: they point to the upper medium (`m.z > 0`), and light may
 //! arrive at a facet from either side. Directions are in the macro-surface frame.
 
+use super::Microsurface;
 use crate::bsdf::{Bsdf, fresnel_dielectric};
 use crate::error::{ParamError, check_eta, finite};
 use crate::math::{Frame, Vec3, safe_sqrt};
@@ -78,7 +79,7 @@ pub struct FacetSample {
 pub trait Facet: Send + Sync {
     /// Scatters light arriving from `wi` (either side of the facet) at a facet of outward normal
     /// `m`; `None` if the light is absorbed.
-    fn sample<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample>;
+    fn scatter<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample>;
 
     /// The phase function `p(wi -> wo)` at a hit (see the trait documentation), or an unbiased
     /// estimate of it.
@@ -90,7 +91,7 @@ pub trait Facet: Send + Sync {
         rng: &mut R,
     ) -> f64;
 
-    /// The density with which a hit followed by [`Facet::sample`] sends light to `wo` (on `wo`'s
+    /// The density with which a hit followed by [`Facet::scatter`] sends light to `wo` (on `wo`'s
     /// side of the macro-surface), or an unbiased estimate of it: `phase` with the facet's
     /// sampling density in place of `f |wo . m|`.
     fn phase_pdf<N: Ndf, R: Rng + ?Sized>(
@@ -166,7 +167,7 @@ impl DielectricFacet {
 }
 
 impl Facet for DielectricFacet {
-    fn sample<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample> {
+    fn scatter<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample> {
         let f = fresnel_dielectric(wi.dot(&m), self.eta);
         let wo = if rng.random::<f64>() < f {
             reflect(wi, m)
@@ -255,7 +256,7 @@ impl ConductorFacet {
 }
 
 impl Facet for ConductorFacet {
-    fn sample<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, _rng: &mut R) -> Option<FacetSample> {
+    fn scatter<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, _rng: &mut R) -> Option<FacetSample> {
         Some(FacetSample {
             wo: reflect(wi, m),
             weight: self.reflectance,
@@ -329,7 +330,7 @@ impl LambertianFacet {
 }
 
 impl Facet for LambertianFacet {
-    fn sample<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample> {
+    fn scatter<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample> {
         let n = if wi.dot(&m) >= 0.0 { m } else { -m };
         let (u1, u2): (f64, f64) = (rng.random(), rng.random());
         let r = u1.sqrt();
@@ -368,29 +369,28 @@ impl Facet for LambertianFacet {
 }
 
 /// Any [`Bsdf`] used as the facet BSDF, in the facet's frame (`z` along the outward normal).
-/// With a [`Microsurface`](super::Microsurface) inside, this gives bi-scale roughness. The phase
-/// function is a one-normal Monte Carlo estimate, so delta lobes of the inner BSDF are missed by
-/// next-event estimation: use [`DielectricFacet`] or [`ConductorFacet`] for smooth facets.
+/// The phase function is a one-normal Monte Carlo estimate, so delta lobes of the inner BSDF are
+/// missed by next-event estimation: use [`DielectricFacet`] or [`ConductorFacet`] for smooth
+/// facets. For bi-scale roughness use a [`Microsurface`] as the facet directly (it implements
+/// [`Facet`] without the pdf walk that [`Bsdf::sample`] adds).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BsdfFacet<B>(pub B);
 
-impl<B: Bsdf> BsdfFacet<B> {
-    /// Draws a visible facet and checks that `wo` leaves it on `wo`'s side of the macro-surface;
-    /// returns the facet frame.
-    #[inline]
-    fn visible_frame<N: Ndf, R: Rng + ?Sized>(
-        ndf: &N,
-        inc: &Incidence,
-        wo: Vec3,
-        rng: &mut R,
-    ) -> Option<Frame> {
-        let m = inc.sample_normal(ndf, rng);
-        ((wo.dot(&m) < 0.0) == (wo.z < 0.0)).then(|| Frame::from_normal(m))
-    }
+/// Draws a visible facet for a one-normal Monte Carlo phase estimate and returns its frame, or
+/// `None` if `wo` cannot leave that facet on `wo`'s side of the macro-surface.
+#[inline]
+fn visible_frame<N: Ndf, R: Rng + ?Sized>(
+    ndf: &N,
+    inc: &Incidence,
+    wo: Vec3,
+    rng: &mut R,
+) -> Option<Frame> {
+    let m = inc.sample_normal(ndf, rng);
+    ((wo.dot(&m) < 0.0) == (wo.z < 0.0)).then(|| Frame::from_normal(m))
 }
 
 impl<B: Bsdf> Facet for BsdfFacet<B> {
-    fn sample<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample> {
+    fn scatter<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample> {
         let frame = Frame::from_normal(m);
         let s = self.0.sample(frame.to_local(wi), rng)?;
         Some(FacetSample {
@@ -406,7 +406,7 @@ impl<B: Bsdf> Facet for BsdfFacet<B> {
         wo: Vec3,
         rng: &mut R,
     ) -> f64 {
-        match Self::visible_frame(ndf, inc, wo, rng) {
+        match visible_frame(ndf, inc, wo, rng) {
             Some(fr) => self.0.eval(fr.to_local(inc.wi), fr.to_local(wo), rng),
             None => 0.0,
         }
@@ -419,8 +419,48 @@ impl<B: Bsdf> Facet for BsdfFacet<B> {
         wo: Vec3,
         rng: &mut R,
     ) -> f64 {
-        match Self::visible_frame(ndf, inc, wo, rng) {
+        match visible_frame(ndf, inc, wo, rng) {
             Some(fr) => self.0.pdf(fr.to_local(inc.wi), fr.to_local(wo), rng),
+            None => 0.0,
+        }
+    }
+}
+
+/// A microsurface as the facet BSDF of a larger-scale microsurface: bi-scale roughness. Sampling
+/// is one inner walk in the facet's frame; the phase function is a one-normal Monte Carlo
+/// estimate with an inner `eval` (or `pdf`) walk.
+impl<M: Ndf, F: Facet> Facet for Microsurface<M, F> {
+    fn scatter<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample> {
+        let frame = Frame::from_normal(m);
+        let s = self.sample_walk(frame.to_local(wi), rng)?;
+        Some(FacetSample {
+            wo: frame.to_world(s.wo),
+            weight: s.weight,
+        })
+    }
+
+    fn phase<N: Ndf, R: Rng + ?Sized>(
+        &self,
+        ndf: &N,
+        inc: &Incidence,
+        wo: Vec3,
+        rng: &mut R,
+    ) -> f64 {
+        match visible_frame(ndf, inc, wo, rng) {
+            Some(fr) => self.eval(fr.to_local(inc.wi), fr.to_local(wo), rng),
+            None => 0.0,
+        }
+    }
+
+    fn phase_pdf<N: Ndf, R: Rng + ?Sized>(
+        &self,
+        ndf: &N,
+        inc: &Incidence,
+        wo: Vec3,
+        rng: &mut R,
+    ) -> f64 {
+        match visible_frame(ndf, inc, wo, rng) {
+            Some(fr) => self.pdf(fr.to_local(inc.wi), fr.to_local(wo), rng),
             None => 0.0,
         }
     }

@@ -13,7 +13,8 @@ use rand_distr::Exp1;
 ///
 /// Light may arrive from either side (`wi.z < 0` is light from inside the lower medium). With a
 /// [`DielectricFacet`](super::DielectricFacet) the walk crosses the interface; with opaque facets
-/// the lower side sees a two-sided sheet.
+/// the lower side sees a two-sided sheet. A microsurface is itself a [`Facet`]: a
+/// `Microsurface<N, Microsurface<M, F>>` has bi-scale roughness.
 ///
 /// As a [`Bsdf`]:
 /// - `eval(wi, wo)` is an unbiased estimate of `f(wi, wo) |wo.z|` from one walk with next-event
@@ -293,7 +294,7 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
             );
             // Scatter at a visible facet (outward normal m).
             let m = self.ndf.sample_visible(wi_side, rng);
-            let Some(s) = self.facet.sample(-w, m, rng) else {
+            let Some(s) = self.facet.scatter(-w, m, rng) else {
                 return WalkEnd::Absorbed;
             };
             weight *= s.weight;
