@@ -5,8 +5,8 @@
 //! seed and the chunk index, and chunk sums are added in chunk order. Results are therefore
 //! identical for a given seed whatever the number of threads.
 
-use super::microsurface::Target;
-use super::{Facet, Microsurface, WalkEnd};
+use super::engine::{Target, WalkEnd, Walker};
+use super::{Facet, Microsurface};
 use crate::math::Vec3;
 use crate::ndf::Ndf;
 use rand_pcg::Pcg64;
@@ -94,137 +94,170 @@ fn chunk_len(walks: u64, c: u64) -> u64 {
     CHUNK.min(walks - c * CHUNK)
 }
 
-impl<N: Ndf, F: Facet> Microsurface<N, F> {
-    /// Estimates `f(wi, wo) |wo.z|` for every `wo` in `wos` from one set of `walks` walks from
-    /// `wi`, with next-event estimation toward every `wo` at every hit. Parallel (rayon) and
-    /// deterministic for a given `seed`.
-    pub fn eval_many(&self, wi: Vec3, wos: &[Vec3], walks: u64, seed: u64) -> Vec<Estimate> {
-        let targets: Vec<Option<Target>> =
-            wos.iter().map(|&wo| Target::new(self.ndf(), wo)).collect();
-        let k = wos.len();
-        let start = (wi.z != 0.0).then(|| self.start(wi));
-        let n_chunks = walks.div_ceil(CHUNK);
-        let chunk_sums: Vec<Vec<Sums>> = (0..n_chunks)
-            .into_par_iter()
-            .map(|c| {
-                let mut rng = chunk_rng(seed, c);
-                let mut sums = vec![Sums::default(); k];
-                let mut acc = vec![0.0f64; k];
-                for _ in 0..chunk_len(walks, c) {
-                    acc.fill(0.0);
-                    if let Some(start) = &start {
-                        self.walk(start, &mut rng, |hit, rng| {
-                            if !self.orders().includes(hit.order) {
-                                return;
-                            }
-                            let (d_out, d_in) = hit.depths();
-                            for (a, t) in acc.iter_mut().zip(&targets) {
-                                let Some(t) = t else { continue };
-                                let p = self.facet().phase(self.ndf(), &hit.inc, t.wo, rng);
-                                if p > 0.0 {
-                                    *a += hit.weight * p * t.escape(d_out, d_in);
-                                }
-                            }
-                        });
-                    }
-                    for (s, &a) in sums.iter_mut().zip(&acc) {
-                        s.add(a);
-                    }
-                }
-                sums
-            })
-            .collect();
-        let mut total = vec![Sums::default(); k];
-        for sums in &chunk_sums {
-            for (t, s) in total.iter_mut().zip(sums) {
-                t.merge(s);
+/// Implements the estimators of this module as inherent methods of a walker type.
+macro_rules! estimators {
+    ($ty:ident < $($g:ident : $b:path),* >) => {
+        impl<$($g: $b),*> $ty<$($g),*> {
+            /// Estimates `f(wi, wo) |wo.z|` for every `wo` in `wos` from one set of `walks` walks
+            /// from `wi`, with next-event estimation toward every `wo` at every hit. Parallel
+            /// (rayon) and deterministic for a given `seed` whatever the number of threads.
+            pub fn eval_many(&self, wi: Vec3, wos: &[Vec3], walks: u64, seed: u64) -> Vec<Estimate> {
+                $crate::walk::estimate::eval_many(self, wi, wos, walks, seed)
+            }
+
+            /// Fractions of the flux arriving from `wi` that leave on each side, from `walks`
+            /// walks.
+            pub fn albedo(&self, wi: Vec3, walks: u64, seed: u64) -> AlbedoEstimate {
+                $crate::walk::estimate::albedo(self, wi, walks, seed, &|_| {})
+            }
+
+            /// [`Self::albedo`], calling `progress(n)` after each chunk of `n` walks (from any
+            /// thread).
+            pub fn albedo_with_progress(
+                &self,
+                wi: Vec3,
+                walks: u64,
+                seed: u64,
+                progress: &(dyn Fn(u64) + Sync),
+            ) -> AlbedoEstimate {
+                $crate::walk::estimate::albedo(self, wi, walks, seed, progress)
             }
         }
-        total.iter().map(|s| s.estimate(walks)).collect()
-    }
+    };
+}
+pub(crate) use estimators;
 
-    /// Fractions of the flux arriving from `wi` that leave on each side, from `walks` walks.
-    pub fn albedo(&self, wi: Vec3, walks: u64, seed: u64) -> AlbedoEstimate {
-        self.albedo_with_progress(wi, walks, seed, &|_| {})
-    }
+estimators!(Microsurface<N: Ndf, F: Facet>);
 
-    /// [`Microsurface::albedo`], calling `progress(n)` after each chunk of `n` walks (from any
-    /// thread).
-    pub fn albedo_with_progress(
-        &self,
-        wi: Vec3,
-        walks: u64,
-        seed: u64,
-        progress: &(dyn Fn(u64) + Sync),
-    ) -> AlbedoEstimate {
-        #[derive(Default)]
-        struct Acc {
-            r: Sums,
-            t: Sums,
-            bounces: u64,
-            escaped: u64,
-            truncated: f64,
-        }
-        let light_inside = wi.z < 0.0;
-        let start = (wi.z != 0.0).then(|| self.start(wi));
-        let n_chunks = walks.div_ceil(CHUNK);
-        let chunks: Vec<Acc> = (0..n_chunks)
-            .into_par_iter()
-            .map(|c| {
-                let mut rng = chunk_rng(seed, c);
-                let mut acc = Acc::default();
-                let n = chunk_len(walks, c);
-                for _ in 0..n {
-                    let (mut r, mut t) = (0.0, 0.0);
-                    let end = match &start {
-                        Some(start) => self.walk(start, &mut rng, |_, _| {}),
-                        None => WalkEnd::Absorbed,
-                    };
-                    match end {
-                        WalkEnd::Escaped(s) if self.orders().includes(s.order) => {
-                            if (s.wo.z < 0.0) == light_inside {
-                                r = s.weight;
-                            } else {
-                                t = s.weight;
-                            }
-                            acc.bounces += u64::from(s.order);
-                            acc.escaped += 1;
+/// Estimates `f(wi, wo) |wo.z|` for every `wo` in `wos` from one set of `walks` walks from
+/// `wi`, with next-event estimation toward every `wo` at every hit. Parallel (rayon) and
+/// deterministic for a given `seed`.
+pub(crate) fn eval_many<W: Walker>(
+    w: &W,
+    wi: Vec3,
+    wos: &[Vec3],
+    walks: u64,
+    seed: u64,
+) -> Vec<Estimate> {
+    let targets: Vec<Option<Target>> = wos.iter().map(|&wo| w.target(wo)).collect();
+    let k = wos.len();
+    let start = (wi.z != 0.0).then(|| w.start(wi));
+    let n_chunks = walks.div_ceil(CHUNK);
+    let chunk_sums: Vec<Vec<Sums>> = (0..n_chunks)
+        .into_par_iter()
+        .map(|c| {
+            let mut rng = chunk_rng(seed, c);
+            let mut sums = vec![Sums::default(); k];
+            let mut acc = vec![0.0f64; k];
+            for _ in 0..chunk_len(walks, c) {
+                acc.fill(0.0);
+                if let Some(start) = &start {
+                    w.walk(start, &mut rng, |hit, rng| {
+                        if !w.orders().includes(hit.order) {
+                            return;
                         }
-                        WalkEnd::Truncated { weight } => acc.truncated += weight,
-                        _ => {}
-                    }
-                    acc.r.add(r);
-                    acc.t.add(t);
+                        let (d_out, d_in) = hit.depths();
+                        for (a, t) in acc.iter_mut().zip(&targets) {
+                            let Some(t) = t else { continue };
+                            let p = w.phase(hit, t.wo, false, rng);
+                            if p > 0.0 {
+                                *a += hit.weight * p * t.escape(d_out, d_in);
+                            }
+                        }
+                    });
                 }
-                progress(n);
-                acc
-            })
-            .collect();
-        let mut total = Acc::default();
-        for a in &chunks {
-            total.r.merge(&a.r);
-            total.t.merge(&a.t);
-            total.bounces += a.bounces;
-            total.escaped += a.escaped;
-            total.truncated += a.truncated;
+                for (s, &a) in sums.iter_mut().zip(&acc) {
+                    s.add(a);
+                }
+            }
+            sums
+        })
+        .collect();
+    let mut total = vec![Sums::default(); k];
+    for sums in &chunk_sums {
+        for (t, s) in total.iter_mut().zip(sums) {
+            t.merge(s);
         }
-        let (r, t) = (total.r.estimate(walks), total.t.estimate(walks));
-        AlbedoEstimate {
-            reflectance: r.mean,
-            transmittance: t.mean,
-            reflectance_stderr: r.stderr,
-            transmittance_stderr: t.stderr,
-            mean_bounces: if total.escaped > 0 {
-                total.bounces as f64 / total.escaped as f64
-            } else {
-                0.0
-            },
-            truncated: if walks > 0 {
-                total.truncated / walks as f64
-            } else {
-                0.0
-            },
-            walks,
-        }
+    }
+    total.iter().map(|s| s.estimate(walks)).collect()
+}
+
+/// Fractions of the flux arriving from `wi` that leave on each side, from `walks` walks, calling
+/// `progress(n)` after each chunk of `n` walks.
+pub(crate) fn albedo<W: Walker>(
+    w: &W,
+    wi: Vec3,
+    walks: u64,
+    seed: u64,
+    progress: &(dyn Fn(u64) + Sync),
+) -> AlbedoEstimate {
+    #[derive(Default)]
+    struct Acc {
+        r: Sums,
+        t: Sums,
+        bounces: u64,
+        escaped: u64,
+        truncated: f64,
+    }
+    let light_inside = wi.z < 0.0;
+    let start = (wi.z != 0.0).then(|| w.start(wi));
+    let n_chunks = walks.div_ceil(CHUNK);
+    let chunks: Vec<Acc> = (0..n_chunks)
+        .into_par_iter()
+        .map(|c| {
+            let mut rng = chunk_rng(seed, c);
+            let mut acc = Acc::default();
+            let n = chunk_len(walks, c);
+            for _ in 0..n {
+                let (mut r, mut t) = (0.0, 0.0);
+                let end = match &start {
+                    Some(start) => w.walk(start, &mut rng, |_, _| {}),
+                    None => WalkEnd::Absorbed,
+                };
+                match end {
+                    WalkEnd::Escaped(s) if w.orders().includes(s.order) => {
+                        if (s.wo.z < 0.0) == light_inside {
+                            r = s.weight;
+                        } else {
+                            t = s.weight;
+                        }
+                        acc.bounces += u64::from(s.order);
+                        acc.escaped += 1;
+                    }
+                    WalkEnd::Truncated { weight } => acc.truncated += weight,
+                    _ => {}
+                }
+                acc.r.add(r);
+                acc.t.add(t);
+            }
+            progress(n);
+            acc
+        })
+        .collect();
+    let mut total = Acc::default();
+    for a in &chunks {
+        total.r.merge(&a.r);
+        total.t.merge(&a.t);
+        total.bounces += a.bounces;
+        total.escaped += a.escaped;
+        total.truncated += a.truncated;
+    }
+    let (r, t) = (total.r.estimate(walks), total.t.estimate(walks));
+    AlbedoEstimate {
+        reflectance: r.mean,
+        transmittance: t.mean,
+        reflectance_stderr: r.stderr,
+        transmittance_stderr: t.stderr,
+        mean_bounces: if total.escaped > 0 {
+            total.bounces as f64 / total.escaped as f64
+        } else {
+            0.0
+        },
+        truncated: if walks > 0 {
+            total.truncated / walks as f64
+        } else {
+            0.0
+        },
+        walks,
     }
 }

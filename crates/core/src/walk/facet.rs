@@ -12,50 +12,89 @@ use crate::ndf::Ndf;
 use rand::{Rng, RngExt};
 use std::f64::consts::{FRAC_1_PI, PI};
 
-/// Where a walker hits the microsurface.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Incidence {
+/// The facets a walker can hit at a scattering event, seen from its incident direction: the
+/// visible-normal distribution that the phase function averages over.
+///
+/// Normals are outward (toward the upper medium). For the height-field walk
+/// ([`HeightFieldHit`]) the density is `D_vis(m)` and integrates to 1; for a tentative collision
+/// of the null-scattering walk ([`NullHit`](super::NullHit)) it integrates to the probability
+/// that the collision is real, so that phase functions summed over tentative collisions
+/// estimate those of the real ones.
+pub trait VisibleNormals {
     /// Unit direction back toward where the light came from (`-w` for travel along `w`).
-    pub wi: Vec3,
-    /// True when the walker is in the lower medium and sees the surface from below.
-    pub inside: bool,
-    /// Projected area of the surface seen from the walker's side, `sigma(wi_side)`.
-    pub sigma: f64,
-}
+    fn wi(&self) -> Vec3;
 
-impl Incidence {
-    /// The incidence of light arriving from `wi` on the given side.
-    pub fn new<N: Ndf>(ndf: &N, wi: Vec3, inside: bool) -> Self {
-        let wi_side = if inside { -wi } else { wi };
-        Self {
-            wi,
-            inside,
-            sigma: ndf.sigma(wi_side),
-        }
-    }
+    /// True when the walker is in the lower medium and sees the surface from below.
+    fn inside(&self) -> bool;
 
     /// `wi` in the frame of the surface on the walker's side (mirrored through the origin from
-    /// below, so that the surface seen from below is again a height field with `z` up).
+    /// below, so that the surface seen from below has its normals up again).
     #[inline]
-    pub fn wi_side(&self) -> Vec3 {
-        if self.inside { -self.wi } else { self.wi }
+    fn wi_side(&self) -> Vec3 {
+        if self.inside() { -self.wi() } else { self.wi() }
     }
 
-    /// Density of the outward normals `m` of the facets the walker can hit:
-    /// `max(0, wi_side . m) D(m) / sigma(wi_side)` per unit solid angle.
+    /// Density per unit solid angle of the outward normals `m` of the facets that scatter.
+    fn density(&self, m: Vec3) -> f64;
+
+    /// Draws an outward normal `m` and a weight `w` with `E[w g(m)] = integral density(m) g(m)
+    /// dm` for every `g`.
+    fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> (Vec3, f64);
+}
+
+/// A hit on a height-field microsurface: visible normals `max(0, wi_side . m) D(m) /
+/// sigma(wi_side)`, drawn exactly by [`Ndf::sample_visible`].
+#[derive(Debug, Clone, Copy)]
+pub struct HeightFieldHit<'a, N> {
+    ndf: &'a N,
+    wi: Vec3,
+    inside: bool,
+    /// `sigma(wi_side)`.
+    sigma: f64,
+}
+
+impl<'a, N: Ndf> HeightFieldHit<'a, N> {
+    /// A hit by light arriving from `wi` on the given side.
+    pub fn new(ndf: &'a N, wi: Vec3, inside: bool) -> Self {
+        let wi_side = if inside { -wi } else { wi };
+        Self::with_sigma(ndf, wi, inside, ndf.sigma(wi_side))
+    }
+
+    /// As [`HeightFieldHit::new`] with `sigma(wi_side)` already known.
     #[inline]
-    pub fn visible_density<N: Ndf>(&self, ndf: &N, m: Vec3) -> f64 {
+    pub fn with_sigma(ndf: &'a N, wi: Vec3, inside: bool, sigma: f64) -> Self {
+        Self {
+            ndf,
+            wi,
+            inside,
+            sigma,
+        }
+    }
+}
+
+impl<N: Ndf> VisibleNormals for HeightFieldHit<'_, N> {
+    #[inline]
+    fn wi(&self) -> Vec3 {
+        self.wi
+    }
+
+    #[inline]
+    fn inside(&self) -> bool {
+        self.inside
+    }
+
+    #[inline]
+    fn density(&self, m: Vec3) -> f64 {
         let c = self.wi_side().dot(&m);
         if c <= 0.0 || self.sigma.is_nan() || self.sigma <= 0.0 {
             return 0.0;
         }
-        c * ndf.d(m) / self.sigma
+        c * self.ndf.d(m) / self.sigma
     }
 
-    /// Draws the outward normal of the facet hit, from [`Incidence::visible_density`].
     #[inline]
-    pub fn sample_normal<N: Ndf, R: Rng + ?Sized>(&self, ndf: &N, rng: &mut R) -> Vec3 {
-        ndf.sample_visible(self.wi_side(), rng)
+    fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> (Vec3, f64) {
+        (self.ndf.sample_visible(self.wi_side(), rng), 1.0)
     }
 }
 
@@ -83,24 +122,12 @@ pub trait Facet: Send + Sync {
 
     /// The phase function `p(wi -> wo)` at a hit (see the trait documentation), or an unbiased
     /// estimate of it.
-    fn phase<N: Ndf, R: Rng + ?Sized>(
-        &self,
-        ndf: &N,
-        inc: &Incidence,
-        wo: Vec3,
-        rng: &mut R,
-    ) -> f64;
+    fn phase<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64;
 
     /// The density with which a hit followed by [`Facet::scatter`] sends light to `wo` (on `wo`'s
     /// side of the macro-surface), or an unbiased estimate of it: `phase` with the facet's
     /// sampling density in place of `f |wo . m|`.
-    fn phase_pdf<N: Ndf, R: Rng + ?Sized>(
-        &self,
-        ndf: &N,
-        inc: &Incidence,
-        wo: Vec3,
-        rng: &mut R,
-    ) -> f64;
+    fn phase_pdf<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64;
 }
 
 /// Mirror reflection of `wi` about the unit normal `m` (either side).
@@ -128,21 +155,17 @@ fn refract(wi: Vec3, m: Vec3, eta: f64) -> Option<Vec3> {
     Some((-wi / eta_t + n * (cos_i / eta_t - cos_t)).normalize())
 }
 
-/// The half vector of a reflection `wi -> wo`, outward (`z >= 0`), or `None` if degenerate.
+/// `v / |v|` as the outward normal of a facet that the walker of `vis` can hit
+/// (`wi_side . h > 0`), or `None` for a zero vector. For a height field the outward normal of a
+/// hit facet has `z > 0`; facets of a full-sphere NDF may face down.
 #[inline]
-fn half_vector_reflect(wi: Vec3, wo: Vec3) -> Option<Vec3> {
-    outward_unit(wi + wo)
-}
-
-/// `v / |v|` flipped to `z >= 0`, or `None` for a zero vector.
-#[inline]
-fn outward_unit(v: Vec3) -> Option<Vec3> {
+fn facing_unit<V: VisibleNormals>(v: Vec3, vis: &V) -> Option<Vec3> {
     let len = v.norm();
     if len == 0.0 || !len.is_finite() {
         return None;
     }
     let h = v / len;
-    Some(if h.z < 0.0 { -h } else { h })
+    Some(if vis.wi_side().dot(&h) < 0.0 { -h } else { h })
 }
 
 /// A smooth dielectric facet: index 1 above, `eta` below (`eta` may be below 1). Light is
@@ -181,31 +204,25 @@ impl Facet for DielectricFacet {
     /// Closed form (Walter et al. 2007 through the visible-normal density): with `h` the
     /// (generalised) half vector, reflection gives `F D_vis(h) / (4 |wi.h|)` and transmission
     /// `(1 - F) D_vis(h) |wo.h| n_o^2 / (n_i wi.h + n_o wo.h)^2`.
-    fn phase<N: Ndf, R: Rng + ?Sized>(
-        &self,
-        ndf: &N,
-        inc: &Incidence,
-        wo: Vec3,
-        _rng: &mut R,
-    ) -> f64 {
-        let wi = inc.wi;
+    fn phase<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, _rng: &mut R) -> f64 {
+        let wi = vis.wi();
         let o_inside = wo.z < 0.0;
-        let n_i = if inc.inside { self.eta } else { 1.0 };
+        let n_i = if vis.inside() { self.eta } else { 1.0 };
         let n_o = if o_inside { self.eta } else { 1.0 };
-        let reflection = o_inside == inc.inside;
+        let reflection = o_inside == vis.inside();
         let h = if reflection {
-            half_vector_reflect(wi, wo)
+            facing_unit(wi + wo, vis)
         } else {
-            outward_unit(-(wi * n_i + wo * n_o))
+            facing_unit(-(wi * n_i + wo * n_o), vis)
         };
         let Some(h) = h else { return 0.0 };
-        let side = if inc.inside { -1.0 } else { 1.0 };
+        let side = if vis.inside() { -1.0 } else { 1.0 };
         let (hi, ho) = (wi.dot(&h), wo.dot(&h));
         // The facet must face the walker, and wo must leave it on the right side.
         if side * hi <= 0.0 || (side * ho > 0.0) != reflection {
             return 0.0;
         }
-        let d_vis = inc.visible_density(ndf, h);
+        let d_vis = vis.density(h);
         if d_vis == 0.0 {
             return 0.0;
         }
@@ -219,14 +236,8 @@ impl Facet for DielectricFacet {
     }
 
     /// Sample weights are 1, so the sampling density is the phase function.
-    fn phase_pdf<N: Ndf, R: Rng + ?Sized>(
-        &self,
-        ndf: &N,
-        inc: &Incidence,
-        wo: Vec3,
-        rng: &mut R,
-    ) -> f64 {
-        self.phase(ndf, inc, wo, rng)
+    fn phase_pdf<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64 {
+        self.phase(vis, wo, rng)
     }
 }
 
@@ -264,32 +275,25 @@ impl Facet for ConductorFacet {
     }
 
     /// `R D_vis(h) / (4 |wi.h|)` with `h` the reflection half vector.
-    fn phase<N: Ndf, R: Rng + ?Sized>(
-        &self,
-        ndf: &N,
-        inc: &Incidence,
-        wo: Vec3,
-        rng: &mut R,
-    ) -> f64 {
-        self.reflectance * self.phase_pdf(ndf, inc, wo, rng)
+    fn phase<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64 {
+        self.reflectance * self.phase_pdf(vis, wo, rng)
     }
 
-    fn phase_pdf<N: Ndf, R: Rng + ?Sized>(
+    fn phase_pdf<V: VisibleNormals, R: Rng + ?Sized>(
         &self,
-        ndf: &N,
-        inc: &Incidence,
+        vis: &V,
         wo: Vec3,
         _rng: &mut R,
     ) -> f64 {
         // Reflection keeps the walker on its side of the interface.
-        if (wo.z < 0.0) != inc.inside {
+        if (wo.z < 0.0) != vis.inside() {
             return 0.0;
         }
-        let Some(h) = half_vector_reflect(inc.wi, wo) else {
+        let Some(h) = facing_unit(vis.wi() + wo, vis) else {
             return 0.0;
         };
-        let hi = inc.wi.dot(&h);
-        let d_vis = inc.visible_density(ndf, h);
+        let hi = vis.wi().dot(&h);
+        let d_vis = vis.density(h);
         if d_vis == 0.0 {
             return 0.0;
         }
@@ -343,28 +347,16 @@ impl Facet for LambertianFacet {
     }
 
     /// Monte Carlo over one visible facet normal.
-    fn phase<N: Ndf, R: Rng + ?Sized>(
-        &self,
-        ndf: &N,
-        inc: &Incidence,
-        wo: Vec3,
-        rng: &mut R,
-    ) -> f64 {
-        self.albedo * self.phase_pdf(ndf, inc, wo, rng)
+    fn phase<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64 {
+        self.albedo * self.phase_pdf(vis, wo, rng)
     }
 
-    fn phase_pdf<N: Ndf, R: Rng + ?Sized>(
-        &self,
-        ndf: &N,
-        inc: &Incidence,
-        wo: Vec3,
-        rng: &mut R,
-    ) -> f64 {
-        if (wo.z < 0.0) != inc.inside {
+    fn phase_pdf<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64 {
+        if (wo.z < 0.0) != vis.inside() {
             return 0.0;
         }
-        let m = inc.sample_normal(ndf, rng);
-        Self::cos_density(inc.wi, wo, m)
+        let (m, weight) = vis.sample(rng);
+        weight * Self::cos_density(vis.wi(), wo, m)
     }
 }
 
@@ -376,17 +368,16 @@ impl Facet for LambertianFacet {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BsdfFacet<B>(pub B);
 
-/// Draws a visible facet for a one-normal Monte Carlo phase estimate and returns its frame, or
-/// `None` if `wo` cannot leave that facet on `wo`'s side of the macro-surface.
+/// Draws a visible facet for a one-normal Monte Carlo phase estimate and returns its frame and
+/// weight, or `None` if `wo` cannot leave that facet on `wo`'s side of the macro-surface.
 #[inline]
-fn visible_frame<N: Ndf, R: Rng + ?Sized>(
-    ndf: &N,
-    inc: &Incidence,
+fn visible_frame<V: VisibleNormals, R: Rng + ?Sized>(
+    vis: &V,
     wo: Vec3,
     rng: &mut R,
-) -> Option<Frame> {
-    let m = inc.sample_normal(ndf, rng);
-    ((wo.dot(&m) < 0.0) == (wo.z < 0.0)).then(|| Frame::from_normal(m))
+) -> Option<(Frame, f64)> {
+    let (m, weight) = vis.sample(rng);
+    ((wo.dot(&m) < 0.0) == (wo.z < 0.0) && weight > 0.0).then(|| (Frame::from_normal(m), weight))
 }
 
 impl<B: Bsdf> Facet for BsdfFacet<B> {
@@ -399,28 +390,16 @@ impl<B: Bsdf> Facet for BsdfFacet<B> {
         })
     }
 
-    fn phase<N: Ndf, R: Rng + ?Sized>(
-        &self,
-        ndf: &N,
-        inc: &Incidence,
-        wo: Vec3,
-        rng: &mut R,
-    ) -> f64 {
-        match visible_frame(ndf, inc, wo, rng) {
-            Some(fr) => self.0.eval(fr.to_local(inc.wi), fr.to_local(wo), rng),
+    fn phase<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64 {
+        match visible_frame(vis, wo, rng) {
+            Some((fr, w)) => w * self.0.eval(fr.to_local(vis.wi()), fr.to_local(wo), rng),
             None => 0.0,
         }
     }
 
-    fn phase_pdf<N: Ndf, R: Rng + ?Sized>(
-        &self,
-        ndf: &N,
-        inc: &Incidence,
-        wo: Vec3,
-        rng: &mut R,
-    ) -> f64 {
-        match visible_frame(ndf, inc, wo, rng) {
-            Some(fr) => self.0.pdf(fr.to_local(inc.wi), fr.to_local(wo), rng),
+    fn phase_pdf<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64 {
+        match visible_frame(vis, wo, rng) {
+            Some((fr, w)) => w * self.0.pdf(fr.to_local(vis.wi()), fr.to_local(wo), rng),
             None => 0.0,
         }
     }
@@ -439,28 +418,16 @@ impl<M: Ndf, F: Facet> Facet for Microsurface<M, F> {
         })
     }
 
-    fn phase<N: Ndf, R: Rng + ?Sized>(
-        &self,
-        ndf: &N,
-        inc: &Incidence,
-        wo: Vec3,
-        rng: &mut R,
-    ) -> f64 {
-        match visible_frame(ndf, inc, wo, rng) {
-            Some(fr) => self.eval(fr.to_local(inc.wi), fr.to_local(wo), rng),
+    fn phase<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64 {
+        match visible_frame(vis, wo, rng) {
+            Some((fr, w)) => w * self.eval(fr.to_local(vis.wi()), fr.to_local(wo), rng),
             None => 0.0,
         }
     }
 
-    fn phase_pdf<N: Ndf, R: Rng + ?Sized>(
-        &self,
-        ndf: &N,
-        inc: &Incidence,
-        wo: Vec3,
-        rng: &mut R,
-    ) -> f64 {
-        match visible_frame(ndf, inc, wo, rng) {
-            Some(fr) => self.pdf(fr.to_local(inc.wi), fr.to_local(wo), rng),
+    fn phase_pdf<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64 {
+        match visible_frame(vis, wo, rng) {
+            Some((fr, w)) => w * self.pdf(fr.to_local(vis.wi()), fr.to_local(wo), rng),
             None => 0.0,
         }
     }

@@ -1,6 +1,7 @@
 //! The microsurface BSDF: the height-field random walk over an NDF and a facet BSDF.
 
-use super::{Facet, Incidence, MAX_BOUNCES, ScatteringOrders};
+use super::engine::{self, Hit, Start, Target, WalkEnd, WalkSample, Walker, mirrored_depth};
+use super::{Facet, HeightFieldHit, MAX_BOUNCES, ScatteringOrders};
 use crate::bsdf::{Bsdf, BsdfSample};
 use crate::error::ParamError;
 use crate::math::Vec3;
@@ -34,129 +35,6 @@ pub struct Microsurface<N, F> {
     facet: F,
     orders: ScatteringOrders,
     max_bounces: u32,
-}
-
-/// A direction returned by a walk.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct WalkSample {
-    /// Exit direction (unit).
-    pub wo: Vec3,
-    /// Product of the facet sample weights along the path.
-    pub weight: f64,
-    /// Number of scattering events.
-    pub order: u32,
-}
-
-/// How a random walk without next-event estimation ended.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum WalkEnd {
-    /// The walker left the microsurface; its order may or may not be selected.
-    Escaped(WalkSample),
-    /// The walker was about to scatter past the last selected order: it contributes nothing.
-    Stopped,
-    /// A facet absorbed the walker.
-    Absorbed,
-    /// The walker was about to scatter past the safety cap ([`MAX_BOUNCES`] unless set with
-    /// [`Microsurface::with_max_bounces`]); `weight` is the throughput dropped.
-    Truncated { weight: f64 },
-}
-
-/// A scattering event, as next-event estimation sees it.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Hit {
-    pub inc: Incidence,
-    /// Depth below the top of the surface on the walker's side (`-ln C1`).
-    pub depth: f64,
-    /// Throughput of the path up to this event (product of earlier facet weights).
-    pub weight: f64,
-    /// 1 for the first scattering event.
-    pub order: u32,
-}
-
-impl Hit {
-    /// Depths of the hit point below the tops of the upper and of the lower surface.
-    #[inline]
-    pub fn depths(&self) -> (f64, f64) {
-        let other = mirrored_depth(self.depth);
-        if self.inc.inside {
-            (other, self.depth)
-        } else {
-            (self.depth, other)
-        }
-    }
-
-    /// Depth of the hit point below the top of the lower surface if `inside`, else the upper.
-    #[inline]
-    pub fn depth_on(&self, inside: bool) -> f64 {
-        if inside == self.inc.inside {
-            self.depth
-        } else {
-            mirrored_depth(self.depth)
-        }
-    }
-}
-
-/// What every walk from one incident direction shares.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Start {
-    /// Direction toward the light (`wi.z != 0`).
-    pub wi: Vec3,
-    /// `Lambda` of the first flight, into the surface on the light's side.
-    pub lambda: f64,
-}
-
-/// A direction toward which next-event estimation is done, with its Smith Lambda.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Target {
-    pub wo: Vec3,
-    /// True for `wo.z < 0` (light leaving into the lower medium).
-    pub inside: bool,
-    /// `Lambda` of `wo` seen by the surface on its side (`wo` mirrored to `z > 0`).
-    pub lambda: f64,
-}
-
-impl Target {
-    /// A target direction, or `None` for a grazing `wo` (no light leaves exactly along the
-    /// horizon).
-    pub fn new<N: Ndf>(ndf: &N, wo: Vec3) -> Option<Self> {
-        if wo.z == 0.0 || !wo.z.is_finite() {
-            return None;
-        }
-        let inside = wo.z < 0.0;
-        let up = if inside { -wo } else { wo };
-        Some(Self {
-            wo,
-            inside,
-            lambda: ndf.lambda(up),
-        })
-    }
-
-    /// Probability `G1(wo, h) = C1(h)^Lambda(wo)` of leaving toward `wo` from a hit, given the
-    /// hit's depths on the upper and lower surfaces.
-    #[inline]
-    pub fn escape(&self, depth_out: f64, depth_in: f64) -> f64 {
-        let depth = if self.inside { depth_in } else { depth_out };
-        (-depth * self.lambda).exp()
-    }
-
-    /// [`Target::escape`] from a hit.
-    #[inline]
-    pub fn escape_from(&self, hit: &Hit) -> f64 {
-        (-hit.depth_on(self.inside) * self.lambda).exp()
-    }
-}
-
-/// Depth of the same point below the top of the mirrored surface: `-ln(1 - exp(-t))`, since the
-/// mirrored surface has height CDF `1 - C1(h)`. Evaluated without cancellation on either side of
-/// `t = ln 2` (Maechler's log1mexp).
-#[inline]
-pub(crate) fn mirrored_depth(t: f64) -> f64 {
-    let t = t.max(f64::MIN_POSITIVE);
-    if t < std::f64::consts::LN_2 {
-        -(-(-t).exp_m1()).ln()
-    } else {
-        -(-(-t).exp()).ln_1p()
-    }
 }
 
 impl<N: Ndf, F: Facet> Microsurface<N, F> {
@@ -212,9 +90,33 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
         self.orders
     }
 
-    /// The start of walks from `wi` (`wi.z != 0`), shared by every walk from `wi`.
+    /// One random walk from `wi` without next-event estimation (`wi.z != 0`). The exit order of
+    /// an `Escaped` walk may lie outside the selected orders; see [`Microsurface::sample_walk`].
+    pub fn random_walk<R: Rng + ?Sized>(&self, wi: Vec3, rng: &mut R) -> WalkEnd {
+        engine::random_walk(self, wi, rng)
+    }
+
+    /// The exit of one random walk from `wi` if its order is selected: the fast core of
+    /// [`Bsdf::sample`] without its pdf estimate.
     #[inline]
-    pub(crate) fn start(&self, wi: Vec3) -> Start {
+    pub fn sample_walk<R: Rng + ?Sized>(&self, wi: Vec3, rng: &mut R) -> Option<WalkSample> {
+        engine::sample_walk(self, wi, rng)
+    }
+}
+
+impl<N: Ndf, F: Facet> Walker for Microsurface<N, F> {
+    #[inline]
+    fn orders(&self) -> ScatteringOrders {
+        self.orders
+    }
+
+    #[inline]
+    fn target(&self, wo: Vec3) -> Option<Target> {
+        Target::new(wo, |up| self.ndf.lambda(up))
+    }
+
+    #[inline]
+    fn start(&self, wi: Vec3) -> Start {
         let inside = wi.z < 0.0;
         let ws = if inside { wi } else { -wi };
         Start {
@@ -223,10 +125,10 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
         }
     }
 
-    /// The random walk of light arriving from `start.wi`, calling `visit` at every scattering
-    /// event up to the last selected order, before the walker scatters there.
+    /// The height-field walk: free flights in depth with rate `|Lambda|`, exact visible-normal
+    /// sampling at every hit.
     #[inline]
-    pub(crate) fn walk<R: Rng + ?Sized>(
+    fn walk<R: Rng + ?Sized>(
         &self,
         start: &Start,
         rng: &mut R,
@@ -278,14 +180,11 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
             } else {
                 self.ndf.sigma(wi_side)
             };
-            let inc = Incidence {
-                wi: -w,
-                inside,
-                sigma,
-            };
             visit(
                 &Hit {
-                    inc,
+                    wi: -w,
+                    inside,
+                    sigma,
                     depth,
                     weight,
                     order,
@@ -307,45 +206,20 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
         }
     }
 
-    /// One random walk from `wi` without next-event estimation (`wi.z != 0`). The exit order of
-    /// an `Escaped` walk may lie outside the selected orders; see [`Microsurface::sample_walk`].
-    pub fn random_walk<R: Rng + ?Sized>(&self, wi: Vec3, rng: &mut R) -> WalkEnd {
-        if wi.z == 0.0 {
-            return WalkEnd::Absorbed;
-        }
-        self.walk(&self.start(wi), rng, |_, _| {})
-    }
-
-    /// The exit of one random walk from `wi` if its order is selected: the fast core of
-    /// [`Bsdf::sample`] without its pdf estimate.
     #[inline]
-    pub fn sample_walk<R: Rng + ?Sized>(&self, wi: Vec3, rng: &mut R) -> Option<WalkSample> {
-        match self.random_walk(wi, rng) {
-            WalkEnd::Escaped(s) if self.orders.includes(s.order) && s.weight > 0.0 => Some(s),
-            _ => None,
+    fn phase<R: Rng + ?Sized>(&self, hit: &Hit, wo: Vec3, pdf: bool, rng: &mut R) -> f64 {
+        let vis = HeightFieldHit::with_sigma(&self.ndf, hit.wi, hit.inside, hit.sigma);
+        if pdf {
+            self.facet.phase_pdf(&vis, wo, rng)
+        } else {
+            self.facet.phase(&vis, wo, rng)
         }
     }
 }
 
 impl<N: Ndf, F: Facet> Bsdf for Microsurface<N, F> {
     fn eval<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, rng: &mut R) -> f64 {
-        let Some(target) = Target::new(&self.ndf, wo) else {
-            return 0.0;
-        };
-        if wi.z == 0.0 {
-            return 0.0;
-        }
-        let mut sum = 0.0;
-        self.walk(&self.start(wi), rng, |hit, rng| {
-            if !self.orders.includes(hit.order) {
-                return;
-            }
-            let p = self.facet.phase(&self.ndf, &hit.inc, wo, rng);
-            if p > 0.0 {
-                sum += hit.weight * p * target.escape_from(hit);
-            }
-        });
-        sum
+        engine::nee_walk(self, wi, wo, false, rng)
     }
 
     fn sample<R: Rng + ?Sized>(&self, wi: Vec3, rng: &mut R) -> Option<BsdfSample> {
@@ -360,29 +234,13 @@ impl<N: Ndf, F: Facet> Bsdf for Microsurface<N, F> {
     }
 
     fn pdf<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, rng: &mut R) -> f64 {
-        let Some(target) = Target::new(&self.ndf, wo) else {
-            return 0.0;
-        };
-        if wi.z == 0.0 {
-            return 0.0;
-        }
-        let mut sum = 0.0;
-        self.walk(&self.start(wi), rng, |hit, rng| {
-            if !self.orders.includes(hit.order) {
-                return;
-            }
-            let p = self.facet.phase_pdf(&self.ndf, &hit.inc, wo, rng);
-            if p > 0.0 {
-                sum += p * target.escape_from(hit);
-            }
-        });
-        sum
+        engine::nee_walk(self, wi, wo, true, rng)
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use super::mirrored_depth;
 
     #[test]
     fn mirrored_depth_is_an_involution() {

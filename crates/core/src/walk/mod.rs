@@ -26,6 +26,12 @@
 //! surface has height CDF `1 - C1(h)`). Depths keep full precision however deep a walk goes,
 //! where a height near the bottom of a uniform distribution would round to it.
 //!
+//! # Full-sphere NDFs
+//!
+//! [`NullMicrosurface`] runs the same walk for any bounded NDF on the whole sphere
+//! ([`SphereNdf`](crate::sphere::SphereNdf): porous blends, von Mises-Fisher lobes, and the
+//! height-field NDFs as special cases) by null scattering against a constant majorant.
+//!
 //! # What is estimated
 //!
 //! `eval(wi, wo)` returns `f(wi, wo) |wo.z|` with no radiance `1/eta^2` scaling, as every
@@ -35,15 +41,20 @@
 //! [`MAX_BOUNCES`] scattering events (far above any real path) ends runaway walks, and the
 //! estimators report the energy it drops.
 
+mod engine;
 mod estimate;
 mod facet;
 mod microsurface;
+mod null;
 
+pub use engine::{WalkEnd, WalkSample};
 pub use estimate::{AlbedoEstimate, Estimate};
 pub use facet::{
-    BsdfFacet, ConductorFacet, DielectricFacet, Facet, FacetSample, Incidence, LambertianFacet,
+    BsdfFacet, ConductorFacet, DielectricFacet, Facet, FacetSample, HeightFieldHit,
+    LambertianFacet, VisibleNormals,
 };
-pub use microsurface::{Microsurface, WalkEnd, WalkSample};
+pub use microsurface::Microsurface;
+pub use null::{NullHit, NullMicrosurface};
 
 /// Safety cap on the number of scattering events in one walk. No physical path comes near it
 /// (mean path lengths are a few events); a walk that reaches it is dropped and counted.

@@ -1,0 +1,302 @@
+//! The null-scattering random walk for any bounded NDF on the whole sphere; see
+//! [`NullMicrosurface`].
+
+use super::engine::{self, Hit, Start, Target, WalkEnd, WalkSample, Walker, mirrored_depth};
+use super::estimate::{AlbedoEstimate, Estimate, estimators};
+use super::{Facet, MAX_BOUNCES, ScatteringOrders, VisibleNormals};
+use crate::bsdf::{Bsdf, BsdfSample};
+use crate::error::ParamError;
+use crate::math::{Frame, Vec3, safe_sqrt};
+use crate::sphere::SphereNdf;
+use rand::{Rng, RngExt};
+use rand_distr::Exp1;
+use std::f64::consts::PI;
+
+/// A microsurface with a full-sphere NDF `S` and facet BSDF `F`, evaluated and sampled by the
+/// null-scattering walk. As a [`Bsdf`] it has the same semantics as
+/// [`Microsurface`](super::Microsurface): `eval` and `pdf` are unbiased one-walk estimates,
+/// `sample` fills `pdf` with one `pdf` estimate. The walk follows d'Eon 2023 (section 3 of the
+/// seed paper; theory section 7).
+///
+/// The microsurface is the half-space of depths `t >= 0` of the height-field walk, filled with
+/// facets whose orientations follow a [`SphereNdf`] `D` (porous, granular or volumetric surfaces;
+/// height fields are the special case `D = 0` below the horizon). A constant majorant
+/// `Dbar >= D` turns it into a homogeneous medium: the majorant's projected area is `pi Dbar`
+/// from every direction, so tentative collisions along a direction `w` come at rate
+/// `pi Dbar / |w.z|` per unit depth, and the normal of the facet met is cosine-distributed about
+/// the direction the light comes from (the visible normals of a uniform NDF). The collision is
+/// real with probability `D(m) / Dbar` and null otherwise (the walker flies on unchanged). Real
+/// collisions scatter with the facet BSDF exactly as in the height-field walk, including the
+/// crossing to the mirrored surface for transmitting facets.
+///
+/// Next-event estimation is done at every tentative collision with the facet phase function
+/// averaged over the sub-normalised density `max(0, wi_side . m) D(m) / (pi Dbar)` (its mass is
+/// the probability that the collision is real), so no `sigma(wi)` is needed along the walk. The
+/// escape probability toward `wo` from depth `t` is `exp(-t Lambda(wo))` with
+/// `Lambda(wo) = sigma(-wo) / wo.z`, `sigma` from [`SphereNdf::sigma`] (quadrature), once per
+/// target direction.
+///
+/// For a height-field NDF the walk reproduces the height-field walk. Its cost grows with
+/// `pi Dbar / sigma`, the number of tentative collisions per real one, so it suits rough or
+/// porous surfaces (roughness above about 0.4); for smooth height fields prefer
+/// [`Microsurface`](super::Microsurface). Transmitting facets on a full-sphere NDF follow the
+/// height-field walk's model of the mirrored surface below the interface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NullMicrosurface<S, F> {
+    ndf: S,
+    facet: F,
+    orders: ScatteringOrders,
+    max_bounces: u32,
+    /// The majorant `Dbar`.
+    bound: f64,
+}
+
+/// A tentative collision of the null-scattering walk, seen by next-event estimation: normals
+/// with density `max(0, wi_side . m) D(m) / (pi Dbar)`, drawn cosine-weighted with weight
+/// `D(m) / Dbar`.
+#[derive(Debug, Clone, Copy)]
+pub struct NullHit<'a, S> {
+    ndf: &'a S,
+    wi: Vec3,
+    inside: bool,
+    bound: f64,
+}
+
+impl<'a, S: SphereNdf> NullHit<'a, S> {
+    /// A tentative collision of light arriving from `wi` on the given side, majorant `bound`.
+    pub fn new(ndf: &'a S, wi: Vec3, inside: bool, bound: f64) -> Self {
+        Self {
+            ndf,
+            wi,
+            inside,
+            bound,
+        }
+    }
+}
+
+impl<S: SphereNdf> VisibleNormals for NullHit<'_, S> {
+    #[inline]
+    fn wi(&self) -> Vec3 {
+        self.wi
+    }
+
+    #[inline]
+    fn inside(&self) -> bool {
+        self.inside
+    }
+
+    #[inline]
+    fn density(&self, m: Vec3) -> f64 {
+        let c = self.wi_side().dot(&m);
+        if c <= 0.0 {
+            return 0.0;
+        }
+        c * self.ndf.d(m) / (PI * self.bound)
+    }
+
+    #[inline]
+    fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> (Vec3, f64) {
+        let m = cosine_about(self.wi_side(), rng);
+        (m, self.ndf.d(m) / self.bound)
+    }
+}
+
+/// A unit vector drawn with density `max(0, v . m) / pi` about the unit vector `v`.
+#[inline]
+fn cosine_about<R: Rng + ?Sized>(v: Vec3, rng: &mut R) -> Vec3 {
+    let (u1, u2): (f64, f64) = (rng.random(), rng.random());
+    let r = u1.sqrt();
+    let (sp, cp) = (2.0 * PI * u2).sin_cos();
+    Frame::from_normal(v).to_world(Vec3::new(r * cp, r * sp, safe_sqrt(1.0 - u1)))
+}
+
+impl<S: SphereNdf, F: Facet> NullMicrosurface<S, F> {
+    /// A microsurface with the given NDF and facet BSDF, all scattering orders. Fails if the NDF
+    /// has no finite positive majorant (Student-T with gamma < 2).
+    pub fn new(ndf: S, facet: F) -> Result<Self, ParamError> {
+        let bound = ndf.bound();
+        if !(bound.is_finite() && bound > 0.0) {
+            return Err(ParamError::OutOfRange {
+                name: "NDF bound",
+                value: bound,
+                expected: "a finite majorant > 0 (Student-T needs gamma >= 2)",
+            });
+        }
+        Ok(Self {
+            ndf,
+            facet,
+            orders: ScatteringOrders::All,
+            max_bounces: MAX_BOUNCES,
+            bound,
+        })
+    }
+
+    /// The same microsurface restricted to the given scattering orders.
+    pub fn with_orders(self, orders: ScatteringOrders) -> Self {
+        Self { orders, ..self }
+    }
+
+    /// The same microsurface with another safety cap on real scattering events per walk (see
+    /// [`Microsurface::with_max_bounces`](super::Microsurface::with_max_bounces)).
+    pub fn with_max_bounces(self, max_bounces: u32) -> Result<Self, ParamError> {
+        if max_bounces == 0 || max_bounces == u32::MAX {
+            return Err(ParamError::OutOfRange {
+                name: "max_bounces",
+                value: f64::from(max_bounces),
+                expected: "in [1, 2^32 - 2]",
+            });
+        }
+        Ok(Self {
+            max_bounces,
+            ..self
+        })
+    }
+
+    /// The NDF.
+    pub fn ndf(&self) -> &S {
+        &self.ndf
+    }
+
+    /// The facet BSDF.
+    pub fn facet(&self) -> &F {
+        &self.facet
+    }
+
+    /// The majorant `Dbar` of the NDF.
+    pub fn bound(&self) -> f64 {
+        self.bound
+    }
+
+    /// The selected scattering orders.
+    pub fn orders(&self) -> ScatteringOrders {
+        self.orders
+    }
+
+    /// One walk from `wi` without next-event estimation.
+    pub fn random_walk<R: Rng + ?Sized>(&self, wi: Vec3, rng: &mut R) -> WalkEnd {
+        engine::random_walk(self, wi, rng)
+    }
+
+    /// The exit of one walk from `wi` if its order is selected.
+    pub fn sample_walk<R: Rng + ?Sized>(&self, wi: Vec3, rng: &mut R) -> Option<WalkSample> {
+        engine::sample_walk(self, wi, rng)
+    }
+}
+
+impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
+    #[inline]
+    fn orders(&self) -> ScatteringOrders {
+        self.orders
+    }
+
+    /// `Lambda(up) = sigma(-up) / up.z`: the rate per unit depth of real collisions along `-up`.
+    fn target(&self, wo: Vec3) -> Option<Target> {
+        Target::new(wo, |up| self.ndf.sigma(-up) / up.z)
+    }
+
+    #[inline]
+    fn start(&self, wi: Vec3) -> Start {
+        Start { wi, lambda: 0.0 }
+    }
+
+    fn walk<R: Rng + ?Sized>(
+        &self,
+        start: &Start,
+        rng: &mut R,
+        mut visit: impl FnMut(&Hit, &mut R),
+    ) -> WalkEnd {
+        let last = self.orders.last_order();
+        let rate = PI * self.bound;
+        let mut w = -start.wi;
+        let mut inside = start.wi.z < 0.0;
+        let mut depth = 0.0f64;
+        let mut weight = 1.0f64;
+        let mut real = 0u32;
+        loop {
+            // Fly to the next tentative collision, in the frame of the surface on the walker's side.
+            let ws = if inside { -w } else { w };
+            let flight: f64 = rng.sample(Exp1);
+            let dt = flight * ws.z.abs() / rate;
+            if ws.z > 0.0 {
+                depth -= dt;
+                if depth.is_nan() || depth <= 0.0 {
+                    return WalkEnd::Escaped(WalkSample {
+                        wo: w,
+                        weight,
+                        order: real,
+                    });
+                }
+            } else {
+                depth += dt;
+            }
+            if real < last {
+                visit(
+                    &Hit {
+                        wi: -w,
+                        inside,
+                        sigma: rate,
+                        depth,
+                        weight,
+                        order: real + 1,
+                    },
+                    rng,
+                );
+            }
+            // Real with probability D(m) / Dbar for a cosine-distributed normal m.
+            let m = cosine_about(-ws, rng);
+            if rng.random::<f64>() * self.bound >= self.ndf.d(m) {
+                continue;
+            }
+            real += 1;
+            if real > last {
+                return WalkEnd::Stopped;
+            }
+            if real > self.max_bounces {
+                return WalkEnd::Truncated { weight };
+            }
+            let Some(s) = self.facet.scatter(-w, m, rng) else {
+                return WalkEnd::Absorbed;
+            };
+            weight *= s.weight;
+            let now_inside = s.wo.dot(&m) < 0.0;
+            if now_inside != inside {
+                depth = mirrored_depth(depth);
+                inside = now_inside;
+            }
+            w = s.wo;
+        }
+    }
+
+    #[inline]
+    fn phase<R: Rng + ?Sized>(&self, hit: &Hit, wo: Vec3, pdf: bool, rng: &mut R) -> f64 {
+        let vis = NullHit::new(&self.ndf, hit.wi, hit.inside, self.bound);
+        if pdf {
+            self.facet.phase_pdf(&vis, wo, rng)
+        } else {
+            self.facet.phase(&vis, wo, rng)
+        }
+    }
+}
+
+impl<S: SphereNdf, F: Facet> Bsdf for NullMicrosurface<S, F> {
+    fn eval<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, rng: &mut R) -> f64 {
+        engine::nee_walk(self, wi, wo, false, rng)
+    }
+
+    fn sample<R: Rng + ?Sized>(&self, wi: Vec3, rng: &mut R) -> Option<BsdfSample> {
+        let s = self.sample_walk(wi, rng)?;
+        let pdf = self.pdf(wi, s.wo, rng);
+        Some(BsdfSample {
+            wo: s.wo,
+            weight: s.weight,
+            pdf,
+            delta: false,
+        })
+    }
+
+    fn pdf<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, rng: &mut R) -> f64 {
+        engine::nee_walk(self, wi, wo, true, rng)
+    }
+}
+
+estimators!(NullMicrosurface<S: SphereNdf, F: Facet>);

@@ -1,0 +1,195 @@
+//! The null-scattering walk: it reproduces the height-field walk for height-field NDFs, and
+//! conserves energy on full-sphere NDFs (von Mises-Fisher lobes, porous blends).
+
+use rand::{RngExt, SeedableRng};
+use rand_pcg::Pcg64;
+use std::f64::consts::PI;
+use stfit_core::Vec3;
+use stfit_core::bsdf::Bsdf;
+use stfit_core::math::spherical_direction;
+use stfit_core::ndf::{Ggx, StudentT};
+use stfit_core::sphere::{Porous, SphereNdf, VonMisesFisher};
+use stfit_core::walk::{
+    ConductorFacet, DielectricFacet, Facet, LambertianFacet, Microsurface, NullMicrosurface,
+    ScatteringOrders,
+};
+
+mod walk_cases;
+use walk_cases::directions;
+
+/// Asserts that two estimates agree within 4 combined standard errors.
+fn assert_close(a: (f64, f64), b: (f64, f64), what: &str) {
+    let se = (a.1 * a.1 + b.1 * b.1).sqrt();
+    assert!(
+        (a.0 - b.0).abs() <= 4.0 * se + 1e-12,
+        "{what}: {} +- {} vs {} +- {}",
+        a.0,
+        a.1,
+        b.0,
+        b.1
+    );
+}
+
+#[test]
+fn null_walk_reproduces_the_height_field_walk() {
+    let mut compared = 0;
+    for alpha in [0.5, 1.0] {
+        let ndf = Ggx::new(alpha).unwrap();
+        for eta in [1.51, 1.0 / 1.51] {
+            let facet = DielectricFacet::new(eta).unwrap();
+            for orders in [ScatteringOrders::Single, ScatteringOrders::All] {
+                let hf = Microsurface::new(ndf, facet).with_orders(orders);
+                let null = NullMicrosurface::new(ndf, facet)
+                    .unwrap()
+                    .with_orders(orders);
+                for theta in [0.6, PI - 1.0] {
+                    let wi = spherical_direction(theta, 0.0);
+                    let what = format!("alpha {alpha} eta {eta} {orders:?} theta {theta}");
+                    let a = hf.albedo(wi, 20_000, 1);
+                    let b = null.albedo(wi, 20_000, 2);
+                    let r = |x: &stfit_core::walk::AlbedoEstimate| {
+                        (x.reflectance, x.reflectance_stderr)
+                    };
+                    let t = |x: &stfit_core::walk::AlbedoEstimate| {
+                        (x.transmittance, x.transmittance_stderr)
+                    };
+                    assert_close(r(&a), r(&b), &format!("{what} R"));
+                    assert_close(t(&a), t(&b), &format!("{what} T"));
+                    let wos = directions();
+                    let ea = hf.eval_many(wi, &wos, 10_000, 3);
+                    let eb = null.eval_many(wi, &wos, 10_000, 4);
+                    for ((wo, x), y) in wos.iter().zip(&ea).zip(&eb) {
+                        assert_close(
+                            (x.mean, x.stderr),
+                            (y.mean, y.stderr),
+                            &format!("{what} wo {wo:?}"),
+                        );
+                        compared += usize::from(x.mean > 0.0);
+                    }
+                }
+            }
+        }
+    }
+    assert!(compared > 100, "only {compared} nonzero comparisons");
+}
+
+#[test]
+fn null_walk_reproduces_opaque_height_field_facets() {
+    let ndf = Ggx::new(0.7).unwrap();
+    let wi = spherical_direction(1.0, 0.0);
+    let wos: Vec<Vec3> = directions().into_iter().filter(|w| w.z > 0.0).collect();
+    let hf = Microsurface::new(ndf, LambertianFacet::new(0.8).unwrap());
+    let null = NullMicrosurface::new(ndf, LambertianFacet::new(0.8).unwrap()).unwrap();
+    let (a, b) = (hf.albedo(wi, 20_000, 5), null.albedo(wi, 20_000, 6));
+    assert_close(
+        (a.reflectance, a.reflectance_stderr),
+        (b.reflectance, b.reflectance_stderr),
+        "lambertian R",
+    );
+    let (ea, eb) = (
+        hf.eval_many(wi, &wos, 20_000, 7),
+        null.eval_many(wi, &wos, 20_000, 8),
+    );
+    for ((wo, x), y) in wos.iter().zip(&ea).zip(&eb) {
+        assert_close(
+            (x.mean, x.stderr),
+            (y.mean, y.stderr),
+            &format!("lambertian wo {wo:?}"),
+        );
+    }
+    let hf = Microsurface::new(ndf, ConductorFacet::mirror());
+    let null = NullMicrosurface::new(ndf, ConductorFacet::mirror()).unwrap();
+    let (ea, eb) = (
+        hf.eval_many(wi, &wos, 20_000, 7),
+        null.eval_many(wi, &wos, 20_000, 8),
+    );
+    for ((wo, x), y) in wos.iter().zip(&ea).zip(&eb) {
+        assert_close(
+            (x.mean, x.stderr),
+            (y.mean, y.stderr),
+            &format!("mirror wo {wo:?}"),
+        );
+    }
+}
+
+/// `integral eval(wi, wo) dwo` over the upper hemisphere with `wo` drawn cosine-weighted.
+fn hemisphere_integral<B: Bsdf>(bsdf: &B, wi: Vec3, n: usize) -> (f64, f64) {
+    let mut rng = Pcg64::seed_from_u64(12);
+    let (mut s1, mut s2) = (0.0, 0.0);
+    for _ in 0..n {
+        let u: f64 = rng.random();
+        let r = u.sqrt();
+        let phi = 2.0 * PI * rng.random::<f64>();
+        let wo = Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u).sqrt());
+        let x = bsdf.eval(wi, wo, &mut rng) / (wo.z / PI);
+        s1 += x;
+        s2 += x * x;
+    }
+    let mean = s1 / n as f64;
+    (mean, ((s2 / n as f64 - mean * mean) / n as f64).sqrt())
+}
+
+fn assert_full_sphere_furnace<S: SphereNdf, F: Facet>(ms: &NullMicrosurface<S, F>, what: &str) {
+    for theta in [0.0, 1.2] {
+        let wi = spherical_direction(theta, 0.4);
+        let a = ms.albedo(wi, 20_000, 9);
+        assert!(
+            (a.reflectance - 1.0).abs() < 1e-12 && a.transmittance == 0.0 && a.truncated == 0.0,
+            "{what} theta {theta}: {a:?}"
+        );
+        assert!(a.mean_bounces >= 1.0);
+        let (mean, se) = hemisphere_integral(ms, wi, 20_000);
+        eprintln!("NULL FURNACE {what} theta {theta}: {mean:.4} +- {se:.4}");
+        assert!(
+            (mean - 1.0).abs() <= 4.0 * se && se < 0.02,
+            "{what} theta {theta}: integral of eval {mean} +- {se}"
+        );
+    }
+}
+
+#[test]
+fn full_sphere_ndfs_pass_the_furnace() {
+    for kappa in [1.0, 8.0] {
+        let vmf = VonMisesFisher::new(kappa).unwrap();
+        let ms = NullMicrosurface::new(vmf, ConductorFacet::mirror()).unwrap();
+        assert_full_sphere_furnace(&ms, &format!("vMF {kappa} mirror"));
+        let ms = NullMicrosurface::new(vmf, LambertianFacet::new(1.0).unwrap()).unwrap();
+        assert_full_sphere_furnace(&ms, &format!("vMF {kappa} lambertian"));
+    }
+    let porous = Porous::new(Ggx::new(0.5).unwrap(), 0.3).unwrap();
+    let ms = NullMicrosurface::new(porous, ConductorFacet::mirror()).unwrap();
+    assert_full_sphere_furnace(&ms, "porous GGX 0.5 P 0.3 mirror");
+}
+
+#[test]
+fn porosity_changes_the_result_and_zero_porosity_is_the_height_field() {
+    let ggx = Ggx::new(0.5).unwrap();
+    let wi = spherical_direction(0.8, 0.0);
+    let wo = spherical_direction(0.8, PI);
+    let eval = |p: f64| {
+        let porous = Porous::new(ggx, p).unwrap();
+        NullMicrosurface::new(porous, ConductorFacet::mirror())
+            .unwrap()
+            .eval_many(wi, &[wo], 40_000, 10)[0]
+    };
+    let hf = Microsurface::new(ggx, ConductorFacet::mirror()).eval_many(wi, &[wo], 40_000, 11)[0];
+    let (p0, p5) = (eval(0.0), eval(0.5));
+    assert_close((p0.mean, p0.stderr), (hf.mean, hf.stderr), "porosity 0");
+    // Uniformly oriented facets scatter light away from the specular peak.
+    assert!(
+        p5.mean + 4.0 * p5.stderr < p0.mean,
+        "porosity 0.5 peak {} +- {} vs {} +- {}",
+        p5.mean,
+        p5.stderr,
+        p0.mean,
+        p0.stderr
+    );
+}
+
+#[test]
+fn unbounded_ndfs_are_rejected() {
+    let st = StudentT::new(0.5, 1.8).unwrap();
+    assert!(NullMicrosurface::new(st, ConductorFacet::mirror()).is_err());
+    let st = StudentT::new(0.5, 3.0).unwrap();
+    assert!(NullMicrosurface::new(st, ConductorFacet::mirror()).is_ok());
+}
