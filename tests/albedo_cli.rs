@@ -108,6 +108,39 @@ fn single_plus_multiple_is_all_and_same_seed_repeats() {
 }
 
 #[test]
+fn null_walk_agrees_with_the_height_field_walk() {
+    let run = |walk: &str| {
+        let out = stfit(&[
+            "albedo",
+            "--json",
+            "--ndf",
+            "ggx",
+            "--alpha",
+            "0.8",
+            "--eta",
+            "1.51",
+            "--theta-i",
+            "50",
+            "--samples",
+            "40000",
+            "--walk",
+            walk,
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let (hf, null) = (run("heightfield"), run("null"));
+    let se =
+        (num(&hf, "reflectance_stderr").powi(2) + num(&null, "reflectance_stderr").powi(2)).sqrt();
+    let diff = num(&hf, "reflectance") - num(&null, "reflectance");
+    assert!(diff.abs() <= 4.0 * se, "{hf} vs {null}");
+}
+
+#[test]
 fn text_output_reports_both_fractions() {
     let out = stfit(&[
         "albedo",
@@ -154,7 +187,11 @@ fn bad_arguments_are_errors() {
         (&["--ndf", "student-t"], "gamma"),
         (&["--ndf", "student-t", "--gamma", "1.5"], "gamma"),
         (&["--scattering", "double"], "scattering"),
-        (&["--walk", "null"], "walk"),
+        (&["--walk", "volume"], "walk"),
+        (
+            &["--walk", "null", "--ndf", "student-t", "--gamma", "1.8"],
+            "bound",
+        ),
         (&["--samples", "0"], "samples"),
     ];
     for (over, word) in cases {

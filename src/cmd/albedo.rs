@@ -8,7 +8,10 @@ use std::io::IsTerminal;
 use stfit_core::Vec3;
 use stfit_core::math::radians;
 use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
-use stfit_core::walk::{AlbedoEstimate, DielectricFacet, Microsurface, ScatteringOrders};
+use stfit_core::sphere::SphereNdf;
+use stfit_core::walk::{
+    AlbedoEstimate, DielectricFacet, Microsurface, NullMicrosurface, ScatteringOrders,
+};
 
 /// The NDF family.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -44,6 +47,9 @@ impl From<Scattering> for ScatteringOrders {
 pub enum Walk {
     /// The height-field walk of Heitz et al. 2016.
     Heightfield,
+    /// The null-scattering walk of d'Eon 2023 (same results; slower at low roughness; Student-T
+    /// needs gamma >= 2).
+    Null,
 }
 
 /// Arguments of `stfit albedo`.
@@ -95,9 +101,9 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     let wi = Vec3::new(-t.sin(), 0.0, t.cos());
     let facet = DielectricFacet::new(args.eta)?;
     let result = match (args.ndf, args.gamma) {
-        (NdfKind::Beckmann, None) => estimate(Beckmann::new(args.alpha)?, facet, wi, args),
-        (NdfKind::Ggx, None) => estimate(Ggx::new(args.alpha)?, facet, wi, args),
-        (NdfKind::StudentT, Some(g)) => estimate(StudentT::new(args.alpha, g)?, facet, wi, args),
+        (NdfKind::Beckmann, None) => estimate(Beckmann::new(args.alpha)?, facet, wi, args)?,
+        (NdfKind::Ggx, None) => estimate(Ggx::new(args.alpha)?, facet, wi, args)?,
+        (NdfKind::StudentT, Some(g)) => estimate(StudentT::new(args.alpha, g)?, facet, wi, args)?,
         (NdfKind::StudentT, None) => return Err("--gamma is required for student-t".into()),
         (_, Some(_)) => return Err("--gamma applies only to student-t".into()),
     };
@@ -106,22 +112,42 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
 }
 
 /// Runs the walks, with a progress bar when both output streams are terminals.
-fn estimate<N: Ndf>(ndf: N, facet: DielectricFacet, wi: Vec3, args: &Args) -> AlbedoEstimate {
-    let ms = Microsurface::new(ndf, facet).with_orders(args.scattering.into());
+fn estimate<N: Ndf + SphereNdf>(
+    ndf: N,
+    facet: DielectricFacet,
+    wi: Vec3,
+    args: &Args,
+) -> Result<AlbedoEstimate, Box<dyn Error>> {
+    let orders = ScatteringOrders::from(args.scattering);
     let show = !args.json
         && std::io::stdout().is_terminal()
         && std::io::stderr().is_terminal()
         && args.samples >= 1_000_000;
-    if !show {
-        return ms.albedo(wi, args.samples, args.seed);
+    let bar = show.then(|| {
+        let bar = ProgressBar::new(args.samples);
+        if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} walks, eta {eta}") {
+            bar.set_style(style);
+        }
+        bar
+    });
+    let progress = |n| {
+        if let Some(bar) = &bar {
+            bar.inc(n);
+        }
+    };
+    let (n, seed) = (args.samples, args.seed);
+    let result = match args.walk {
+        Walk::Heightfield => Microsurface::new(ndf, facet)
+            .with_orders(orders)
+            .albedo_with_progress(wi, n, seed, &progress),
+        Walk::Null => NullMicrosurface::new(ndf, facet)?
+            .with_orders(orders)
+            .albedo_with_progress(wi, n, seed, &progress),
+    };
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
     }
-    let bar = ProgressBar::new(args.samples);
-    if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} walks, eta {eta}") {
-        bar.set_style(style);
-    }
-    let result = ms.albedo_with_progress(wi, args.samples, args.seed, &|n| bar.inc(n));
-    bar.finish_and_clear();
-    result
+    Ok(result)
 }
 
 fn print(args: &Args, a: &AlbedoEstimate) {
