@@ -10,7 +10,8 @@ use stfit_core::Vec3;
 use stfit_core::bsdf::Bsdf;
 use stfit_core::math::{radians, spherical_direction};
 use stfit_core::ndf::{Ggx, Ndf};
-use stfit_core::walk::{DielectricFacet, Microsurface};
+use stfit_core::sphere::SphereNdf;
+use stfit_core::walk::{DielectricFacet, Microsurface, NullMicrosurface};
 
 fn wi() -> Vec3 {
     let t = radians(60.0);
@@ -25,6 +26,24 @@ fn wos() -> Vec<Vec3> {
             spherical_direction(z.acos(), 0.7 * k as f64)
         })
         .collect()
+}
+
+/// The null-scattering walk on the same surface, for comparison.
+fn bench_null<N: Ndf + SphereNdf>(c: &mut Criterion, name: &str, ndf: N) {
+    let ms = NullMicrosurface::new(ndf, DielectricFacet::new(1.51).unwrap()).unwrap();
+    let wi = wi();
+    let mut rng = Pcg64::seed_from_u64(1);
+    c.bench_function(&format!("walk/{name}/null_sample"), |b| {
+        b.iter(|| black_box(ms.sample_walk(black_box(wi), &mut rng)))
+    });
+    let wos = wos();
+    let mut k = 0;
+    c.bench_function(&format!("walk/{name}/null_eval"), |b| {
+        b.iter(|| {
+            k = (k + 1) % wos.len();
+            black_box(ms.eval(black_box(wi), wos[k], &mut rng))
+        })
+    });
 }
 
 fn bench_ndf<N: Ndf>(c: &mut Criterion, name: &str, ndf: N) {
@@ -49,6 +68,7 @@ fn bench_ndf<N: Ndf>(c: &mut Criterion, name: &str, ndf: N) {
 
 fn per_ndf(c: &mut Criterion) {
     bench_ndf(c, "ggx", Ggx::new(0.45).unwrap());
+    bench_null(c, "ggx", Ggx::new(0.45).unwrap());
 }
 
 fn batch(c: &mut Criterion) {
