@@ -9,6 +9,7 @@
 mod any;
 mod beckmann;
 mod ggx;
+pub mod special;
 mod student_t;
 
 pub use any::AnyNdf;
