@@ -1,13 +1,13 @@
 //! The Beckmann NDF.
 
 use super::special::{FRAC_1_SQRT_PI, SQRT_PI, erfcx, erfcx_gap};
-use super::{Ndf, cos_tan2, lambda_on_sphere};
+use super::{Ndf, cos2_sin2, lambda_on_sphere};
 use crate::error::{ParamError, check_alpha};
 use crate::math::Vec3;
 use libm::{erf, erfc};
 use rand::{Rng, RngExt};
 use rand_distr::StandardNormal;
-use std::f64::consts::{FRAC_1_SQRT_2, PI};
+use std::f64::consts::FRAC_1_SQRT_2;
 
 /// Beckmann: `D(u) = exp(-tan^2 theta / alpha^2) / (pi alpha^2 u^4)`; slopes are Gaussian with
 /// standard deviation `alpha / sqrt(2)` per axis.
@@ -243,18 +243,18 @@ fn slope_below(n: f64, u: f64) -> f64 {
 }
 
 impl Ndf for Beckmann {
+    /// `exp(-tan^2 / alpha^2 - 2 ln cos^2) / (pi alpha^2)`: zero, not NaN, at grazing normals.
     fn d(&self, wm: Vec3) -> f64 {
-        let Some((u, t2)) = cos_tan2(wm) else {
+        let Some((u2, sin2)) = cos2_sin2(wm) else {
             return 0.0;
         };
-        let a2 = self.alpha * self.alpha;
-        let u2 = u * u;
-        (-t2 / a2).exp() / (PI * a2 * u2 * u2)
+        let ia2 = self.inv_alpha * self.inv_alpha;
+        (-sin2 / u2 * ia2 - 2.0 * u2.ln()).exp() * ia2 * std::f64::consts::FRAC_1_PI
     }
 
     fn lambda(&self, w: Vec3) -> f64 {
-        let alpha = self.alpha;
-        lambda_on_sphere(w, |mu| lambda_beckmann_a(mu / alpha))
+        let inv_alpha = self.inv_alpha;
+        lambda_on_sphere(w, |mu| lambda_beckmann_a(mu * inv_alpha))
     }
 
     fn sigma(&self, w: Vec3) -> f64 {

@@ -2,7 +2,7 @@
 
 use super::beckmann::{open_uniform, sample_visible_beckmann};
 use super::special::{FRAC_1_SQRT_PI, erfcx_gap};
-use super::{Ndf, cos_tan2, lambda_on_sphere};
+use super::{Ndf, cos2_sin2, lambda_on_sphere};
 use crate::error::{ParamError, check_alpha, check_gamma};
 use crate::math::Vec3;
 use libm::erfc;
@@ -167,12 +167,14 @@ fn beta_cf(a: f64, b: f64, x: f64) -> f64 {
 }
 
 impl Ndf for StudentT {
+    /// `exp(-2 ln cos^2 - g ln(1 + tan^2 / ((g-1) alpha^2))) / (pi alpha^2)`; in log form so
+    /// that `cos^-4` cannot overflow at grazing normals (where D diverges like
+    /// `cos^(2g-4)` for g < 2).
     fn d(&self, wm: Vec3) -> f64 {
-        let Some((u, t2)) = cos_tan2(wm) else {
+        let Some((u2, sin2)) = cos2_sin2(wm) else {
             return 0.0;
         };
-        let u2 = u * u;
-        self.d_scale / (u2 * u2) * (-self.gamma * (t2 * self.inv_a2g1).ln_1p()).exp()
+        self.d_scale * (-2.0 * u2.ln() - self.gamma * (sin2 / u2 * self.inv_a2g1).ln_1p()).exp()
     }
 
     /// Closed form with the regularised incomplete beta function (theory section 3).
