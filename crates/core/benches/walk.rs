@@ -9,7 +9,7 @@ use std::hint::black_box;
 use stfit_core::Vec3;
 use stfit_core::bsdf::Bsdf;
 use stfit_core::math::{radians, spherical_direction};
-use stfit_core::ndf::{Ggx, Ndf};
+use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
 use stfit_core::sphere::SphereNdf;
 use stfit_core::walk::{DielectricFacet, Microsurface, NullMicrosurface};
 
@@ -67,7 +67,9 @@ fn bench_ndf<N: Ndf>(c: &mut Criterion, name: &str, ndf: N) {
 }
 
 fn per_ndf(c: &mut Criterion) {
+    bench_ndf(c, "beckmann", Beckmann::new(0.45).unwrap());
     bench_ndf(c, "ggx", Ggx::new(0.45).unwrap());
+    bench_ndf(c, "student-t", StudentT::new(0.45, 3.0).unwrap());
     bench_null(c, "ggx", Ggx::new(0.45).unwrap());
 }
 

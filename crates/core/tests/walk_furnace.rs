@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 use stfit_core::Vec3;
 use stfit_core::bsdf::{Bsdf, fresnel_dielectric};
 use stfit_core::math::spherical_direction;
-use stfit_core::ndf::{Ggx, Ndf};
+use stfit_core::ndf::{AnyNdf, Ggx, Ndf};
 use stfit_core::walk::{
     BsdfFacet, ConductorFacet, DielectricFacet, Facet, LambertianFacet, Microsurface,
 };
@@ -107,6 +107,14 @@ fn first_bounce_density<N: Ndf>(ndf: &N, eta: f64, wi: Vec3, wo: Vec3) -> f64 {
     total
 }
 
+/// Whether the eval integral is a meaningful test: Student-T below gamma = 2 has a D that grows
+/// without bound toward grazing facets, so the next-event estimate of eval near such half
+/// vectors has infinite variance and standard errors mean nothing there. Those surfaces are
+/// checked by the sampled furnace (and the first-order test checks their eval).
+fn eval_has_finite_variance(ndf: &AnyNdf) -> bool {
+    !matches!(ndf.gamma(), Some(g) if g < 2.0)
+}
+
 #[test]
 fn dielectric_furnace_every_ndf_roughness_side_and_index() {
     for ndf in ndfs(&[0.1, 0.5, 1.0, 2.0]) {
@@ -117,6 +125,9 @@ fn dielectric_furnace_every_ndf_roughness_side_and_index() {
                 let wi = spherical_direction(theta, 0.0);
                 let what = format!("{ndf:?} eta {eta} theta {theta}");
                 assert_sampled_furnace(&ms, wi, &what);
+                if !eval_has_finite_variance(&ndf) {
+                    continue;
+                }
                 let wi_side = if wi.z < 0.0 { -wi } else { wi };
                 let draw = |rng: &mut Pcg64| {
                     let m = ndf.sample_visible(wi_side, rng);
@@ -143,6 +154,9 @@ fn mirror_furnace() {
         assert_sampled_furnace(&ms, wi, &what);
         let a = ms.albedo(wi, 1000, 3);
         assert_eq!(a.reflectance, 1.0, "{what}");
+        if !eval_has_finite_variance(&ndf) {
+            continue;
+        }
         let draw = |rng: &mut Pcg64| {
             let m = ndf.sample_visible(wi, rng);
             Some(m * (2.0 * wi.dot(&m)) - wi)

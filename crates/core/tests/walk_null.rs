@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 use stfit_core::Vec3;
 use stfit_core::bsdf::Bsdf;
 use stfit_core::math::spherical_direction;
-use stfit_core::ndf::{Ggx, StudentT};
+use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
 use stfit_core::sphere::{Porous, SphereNdf, VonMisesFisher};
 use stfit_core::walk::{
     ConductorFacet, DielectricFacet, Facet, LambertianFacet, Microsurface, NullMicrosurface,
@@ -71,6 +71,40 @@ fn null_walk_reproduces_the_height_field_walk() {
         }
     }
     assert!(compared > 100, "only {compared} nonzero comparisons");
+}
+
+/// Compares both walks on a dielectric of the given NDF, light from both sides.
+fn compare_walks<N: Ndf + SphereNdf + std::fmt::Debug>(ndf: N) {
+    let facet = DielectricFacet::new(1.51).unwrap();
+    let hf = Microsurface::new(ndf.clone(), facet);
+    let null = NullMicrosurface::new(ndf.clone(), facet).unwrap();
+    for theta in [0.6, PI - 1.0] {
+        let wi = spherical_direction(theta, 0.0);
+        let what = format!("{ndf:?} theta {theta}");
+        let (a, b) = (hf.albedo(wi, 20_000, 1), null.albedo(wi, 20_000, 2));
+        assert_close(
+            (a.reflectance, a.reflectance_stderr),
+            (b.reflectance, b.reflectance_stderr),
+            &format!("{what} R"),
+        );
+        let wos = directions();
+        let ea = hf.eval_many(wi, &wos, 10_000, 3);
+        let eb = null.eval_many(wi, &wos, 10_000, 4);
+        for ((wo, x), y) in wos.iter().zip(&ea).zip(&eb) {
+            assert_close(
+                (x.mean, x.stderr),
+                (y.mean, y.stderr),
+                &format!("{what} wo {wo:?}"),
+            );
+        }
+    }
+}
+
+#[test]
+fn null_walk_reproduces_the_height_field_walk_for_every_family() {
+    compare_walks(Beckmann::new(0.8).unwrap());
+    compare_walks(StudentT::new(0.8, 3.0).unwrap());
+    compare_walks(StudentT::new(0.8, 10.0).unwrap());
 }
 
 #[test]

@@ -12,12 +12,12 @@ use statrs::function::gamma::gamma_ur;
 use std::f64::consts::PI;
 use stfit_core::Vec3;
 use stfit_core::math::spherical_direction;
-use stfit_core::ndf::{Ggx, Ndf};
+use stfit_core::ndf::{AnyNdf, Ggx, Ndf};
 use stfit_core::validate::bonferroni;
 use stfit_core::walk::{DielectricFacet, Facet, LambertianFacet, Microsurface};
 
 mod walk_cases;
-use walk_cases::ndfs;
+use walk_cases::{ggx, ndfs};
 
 /// Bins in `cos theta` over [-1, 1] and in `|phi|` over [0, pi] (the light is in the x-z plane,
 /// so the exit distribution is symmetric in `phi`).
@@ -60,7 +60,7 @@ fn sample_eval_p_value<N: Ndf, F: Facet>(
             }
         }
     }
-    let est = evaluator.eval_many(wi, &nodes, 20_000, 77);
+    let est = evaluator.eval_many(wi, &nodes, 10_000, 77);
     let per_bin = GL.len() * GL.len();
     let expected: Vec<(f64, f64)> = (0..NZ * NP)
         .map(|b| {
@@ -112,16 +112,30 @@ fn sample_eval_p_value<N: Ndf, F: Facet>(
 
 #[test]
 fn sampled_exits_follow_eval_for_a_dielectric() {
-    let cases = 2 * 2 * 2;
-    for ndf in ndfs(&[0.5, 1.0]) {
-        for eta in [1.51, 1.0 / 1.51] {
+    // GGX at two roughnesses and both indices; every other family at one.
+    let mut cases = Vec::new();
+    for ndf in ggx(&[0.5, 1.0]) {
+        cases.push((ndf, 1.51));
+        cases.push((ndf, 1.0 / 1.51));
+    }
+    // Student-T below gamma = 2 is left out: its D grows without bound toward grazing facets, so
+    // eval's next-event estimate has infinite variance and bin integrals of it carry no
+    // trustworthy error (its sampled furnace and first-order eval are tested elsewhere).
+    for ndf in ndfs(&[0.6]) {
+        if !matches!(ndf, AnyNdf::Ggx(_)) && !matches!(ndf.gamma(), Some(g) if g < 2.0) {
+            cases.push((ndf, 1.51));
+        }
+    }
+    let n_cases = 2 * cases.len();
+    for (ndf, eta) in cases {
+        {
             let ms = Microsurface::new(ndf, DielectricFacet::new(eta).unwrap());
             for theta in [0.9, PI - 0.6] {
                 let wi = spherical_direction(theta, 0.0);
                 let p = sample_eval_p_value(&ms, &ms, wi, 100_000);
                 eprintln!("CHI2 p = {p:.3e}");
                 assert!(
-                    p > bonferroni(1e-3, cases),
+                    p > bonferroni(1e-3, n_cases),
                     "{ndf:?} eta {eta} theta {theta}: p = {p:e}"
                 );
             }

@@ -4,11 +4,11 @@
 use stfit_core::Vec3;
 use stfit_core::bsdf::{Bsdf, Masking, RoughDielectric};
 use stfit_core::math::spherical_direction;
-use stfit_core::ndf::{Ggx, Ndf};
-use stfit_core::walk::{DielectricFacet, Microsurface, ScatteringOrders};
+use stfit_core::ndf::{AnyNdf, Ggx, Ndf};
+use stfit_core::walk::{DielectricFacet, Estimate, Microsurface, ScatteringOrders};
 
 mod walk_cases;
-use walk_cases::{directions, ndfs};
+use walk_cases::{directions, ggx, ndfs};
 
 /// Index pairs of distinct directions.
 fn pairs() -> Vec<(usize, usize)> {
@@ -52,34 +52,63 @@ fn first_order_equals_single_scattering_with_correlated_masking() {
 
 #[test]
 fn eval_is_reciprocal_with_the_eta_squared_factor() {
-    // The next-event estimator is heavy-tailed (rare hits seen from steep upward directions carry
-    // large phase values), so many walks are needed before its standard error is trustworthy.
+    // Single and multiple scattering are compared separately: the next-event estimate of the
+    // multiple-scattering part is heavy-tailed (rare walks carry large phase values), so where
+    // it rests on a handful of walks (relative error above 10%, or a value below 1e-6 that only
+    // rare paths reach) its standard error is not trustworthy and the pair is not compared for
+    // that order.
     let walks = 100_000;
     let dirs = directions();
-    for ndf in ndfs(&[0.3, 1.0]) {
+    let (mut compared, mut total) = (0usize, 0usize);
+    // Student-T below gamma = 2 is left out: its D grows without bound toward grazing facets
+    // and the multiple-scattering estimate has infinite variance.
+    let mut cases = ggx(&[0.3, 1.0]);
+    cases.extend(
+        ndfs(&[0.6])
+            .into_iter()
+            .filter(|n| !matches!(n, AnyNdf::Ggx(_)) && !matches!(n.gamma(), Some(g) if g < 2.0)),
+    );
+    for ndf in cases {
         for eta in [1.51, 1.0 / 1.51] {
-            let ms = Microsurface::new(ndf, DielectricFacet::new(eta).unwrap());
             let index = |w: Vec3| if w.z < 0.0 { eta } else { 1.0 };
-            let est: Vec<_> = dirs
-                .iter()
-                .enumerate()
-                .map(|(i, &a)| ms.eval_many(a, &dirs, walks, 11 + i as u64))
-                .collect();
-            for (i, j) in pairs() {
-                let (a, b) = (dirs[i], dirs[j]);
-                let (ab, ba) = (est[i][j], est[j][i]);
-                // f(a, b) / n_b^2 = f(b, a) / n_a^2, and eval = f |wo.z|.
-                let sa = 1.0 / (b.z.abs() * index(b).powi(2));
-                let sb = 1.0 / (a.z.abs() * index(a).powi(2));
-                let (x, y) = (ab.mean * sa, ba.mean * sb);
-                let se = ((ab.stderr * sa).powi(2) + (ba.stderr * sb).powi(2)).sqrt();
-                assert!(
-                    (x - y).abs() <= 4.0 * se + 1e-12,
-                    "{ndf:?} eta {eta} {a:?} <-> {b:?}: {x} vs {y} (se {se})"
-                );
+            for orders in [ScatteringOrders::Single, ScatteringOrders::Multiple] {
+                let ms =
+                    Microsurface::new(ndf, DielectricFacet::new(eta).unwrap()).with_orders(orders);
+                let est: Vec<_> = dirs
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &a)| ms.eval_many(a, &dirs, walks, 11 + i as u64))
+                    .collect();
+                for (i, j) in pairs() {
+                    let (a, b) = (dirs[i], dirs[j]);
+                    let (ab, ba) = (est[i][j], est[j][i]);
+                    if ab.mean == 0.0 && ba.mean == 0.0 {
+                        continue;
+                    }
+                    total += 1;
+                    let resolved = |e: &Estimate| e.stderr <= 0.1 * e.mean && e.mean > 1e-6;
+                    if !(resolved(&ab) && resolved(&ba)) {
+                        continue;
+                    }
+                    compared += 1;
+                    // f(a, b) / n_b^2 = f(b, a) / n_a^2, and eval = f |wo.z|.
+                    let sa = 1.0 / (b.z.abs() * index(b).powi(2));
+                    let sb = 1.0 / (a.z.abs() * index(a).powi(2));
+                    let (x, y) = (ab.mean * sa, ba.mean * sb);
+                    let se = ((ab.stderr * sa).powi(2) + (ba.stderr * sb).powi(2)).sqrt();
+                    assert!(
+                        (x - y).abs() <= 4.0 * se + 1e-12 * x.abs(),
+                        "{ndf:?} eta {eta} {orders:?} {a:?} <-> {b:?}: {x} vs {y} (se {se})"
+                    );
+                }
             }
         }
     }
+    eprintln!("RECIPROCITY compared {compared} of {total} nonzero pairs");
+    assert!(
+        compared * 10 >= total * 6,
+        "only {compared} of {total} nonzero pairs resolved well enough to compare"
+    );
 }
 
 #[test]

@@ -41,42 +41,44 @@ pub struct AlbedoEstimate {
     pub walks: u64,
 }
 
-/// Running sums of a per-walk quantity.
+/// Running mean and sum of squared deviations of a per-walk quantity (Welford, merged with
+/// Chan et al.'s formula): no cancellation when the spread is tiny next to the mean.
 #[derive(Debug, Clone, Copy, Default)]
 struct Sums {
-    s1: f64,
-    s2: f64,
+    n: f64,
+    mean: f64,
+    m2: f64,
 }
 
 impl Sums {
     #[inline]
     fn add(&mut self, x: f64) {
-        self.s1 += x;
-        self.s2 += x * x;
+        self.n += 1.0;
+        let d = x - self.mean;
+        self.mean += d / self.n;
+        self.m2 += d * (x - self.mean);
     }
 
     fn merge(&mut self, o: &Sums) {
-        self.s1 += o.s1;
-        self.s2 += o.s2;
+        if o.n == 0.0 {
+            return;
+        }
+        let n = self.n + o.n;
+        let d = o.mean - self.mean;
+        self.mean += d * o.n / n;
+        self.m2 += o.m2 + d * d * self.n * o.n / n;
+        self.n = n;
     }
 
-    fn estimate(&self, n: u64) -> Estimate {
-        if n == 0 {
-            return Estimate {
-                mean: 0.0,
-                stderr: 0.0,
-            };
-        }
-        let nf = n as f64;
-        let mean = self.s1 / nf;
-        let var = if n > 1 {
-            ((self.s2 / nf - mean * mean) * nf / (nf - 1.0)).max(0.0)
+    fn estimate(&self) -> Estimate {
+        let var = if self.n > 1.0 {
+            self.m2 / (self.n - 1.0)
         } else {
             0.0
         };
         Estimate {
-            mean,
-            stderr: (var / nf).sqrt(),
+            mean: self.mean,
+            stderr: (var.max(0.0) / self.n.max(1.0)).sqrt(),
         }
     }
 }
@@ -179,7 +181,7 @@ pub(crate) fn eval_many<W: Walker>(
             t.merge(s);
         }
     }
-    total.iter().map(|s| s.estimate(walks)).collect()
+    total.iter().map(Sums::estimate).collect()
 }
 
 /// Fractions of the flux arriving from `wi` that leave on each side, from `walks` walks, calling
@@ -242,7 +244,7 @@ pub(crate) fn albedo<W: Walker>(
         total.escaped += a.escaped;
         total.truncated += a.truncated;
     }
-    let (r, t) = (total.r.estimate(walks), total.t.estimate(walks));
+    let (r, t) = (total.r.estimate(), total.t.estimate());
     AlbedoEstimate {
         reflectance: r.mean,
         transmittance: t.mean,

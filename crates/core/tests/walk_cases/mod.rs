@@ -3,15 +3,31 @@
 
 use stfit_core::Vec3;
 use stfit_core::math::spherical_direction;
-use stfit_core::ndf::{AnyNdf, Ggx};
+use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, StudentT};
 
-/// The NDFs under test at the given roughnesses.
+/// Student-T shapes under test: below GGX's 2, near the published fits, near Beckmann.
+pub const GAMMAS: [f64; 3] = [1.6, 3.0, 10.0];
+
+/// Every NDF family under test (Beckmann, GGX, Student-T for each of [`GAMMAS`]) at each of the
+/// given roughnesses.
 pub fn ndfs(alphas: &[f64]) -> Vec<AnyNdf> {
     let mut out = Vec::new();
     for &a in alphas {
+        out.push(Beckmann::new(a).unwrap().into());
         out.push(Ggx::new(a).unwrap().into());
+        for g in GAMMAS {
+            out.push(StudentT::new(a, g).unwrap().into());
+        }
     }
     out
+}
+
+/// GGX at each of the given roughnesses.
+pub fn ggx(alphas: &[f64]) -> Vec<AnyNdf> {
+    alphas
+        .iter()
+        .map(|&a| Ggx::new(a).unwrap().into())
+        .collect()
 }
 
 /// A spread of unit directions on both hemispheres, in and out of the plane of incidence.
