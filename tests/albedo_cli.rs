@@ -47,8 +47,11 @@ fn json_has_the_documented_keys_and_conserves_energy() {
         ("ggx", "150", "1.51"),
         ("ggx", "20", "0.6622516556291391"),
         ("ggx", "120", "0.6622516556291391"),
+        ("beckmann", "60", "1.51"),
+        ("student-t", "60", "1.51"),
+        ("student-t", "135", "0.6622516556291391"),
     ] {
-        let v = albedo_json(&[
+        let mut args = vec![
             "--ndf",
             ndf,
             "--alpha",
@@ -57,9 +60,11 @@ fn json_has_the_documented_keys_and_conserves_energy() {
             eta,
             "--theta-i",
             theta,
-            "--scattering",
-            "all",
-        ]);
+        ];
+        if ndf == "student-t" {
+            args.extend_from_slice(&["--gamma", "1.8"]);
+        }
+        let v = albedo_json(&args);
         for key in [
             "reflectance",
             "transmittance",
