@@ -6,9 +6,13 @@
 //! through; the measured quantity is `L = scale * f_t(wi, wo) * cos(theta_i) / eta^2`.
 
 pub mod data;
+pub mod fit;
 pub mod model;
+pub mod objective;
+mod optimize;
 
 pub use data::{Dataset, Measurement, Sample};
+pub use fit::{FitError, fit_all, fit_sample};
 pub use model::{
     FitOptions, FitResult, Loss, ModelKind, ModelParams, ModelSpec, Optimizer, Scattering,
 };
