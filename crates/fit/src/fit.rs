@@ -502,7 +502,8 @@ fn invert_spd(a: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
         .collect();
     for col in 0..p {
         let piv = (col..p).max_by(|&x, &y| c[x][col].abs().total_cmp(&c[y][col].abs()))?;
-        if !(c[piv][col].abs() > 1e-12) {
+        let pivot = c[piv][col].abs();
+        if pivot.is_nan() || pivot <= 1e-12 {
             return None;
         }
         c.swap(col, piv);
@@ -541,9 +542,9 @@ mod tests {
             vec![0.5, 0.2, 2.0],
         ];
         let inv = invert_spd(&a).unwrap();
-        for i in 0..3 {
+        for (i, row) in a.iter().enumerate() {
             for j in 0..3 {
-                let e: f64 = (0..3).map(|k| a[i][k] * inv[k][j]).sum();
+                let e: f64 = row.iter().zip(&inv).map(|(x, r)| x * r[j]).sum();
                 assert!((e - if i == j { 1.0 } else { 0.0 }).abs() < 1e-12);
             }
         }

@@ -144,7 +144,7 @@ fn transmission_factor(wi: Vec3, wo: Vec3, eta: f64) -> (Vec3, f64) {
     let (ci, co) = (wi.z, wo.z);
     let h = -(wi + wo * eta);
     let len = h.norm();
-    if !(len > 0.0) || !(ci > 0.0) || !(co < 0.0) {
+    if len.is_nan() || len <= 0.0 || ci.is_nan() || ci <= 0.0 || co.is_nan() || co >= 0.0 {
         return (Vec3::z(), 0.0);
     }
     let mut h = h / len;
