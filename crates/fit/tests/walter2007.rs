@@ -10,7 +10,7 @@ mod common;
 use stfit_fit::fit::fit_all;
 use stfit_fit::{FitOptions, FitResult, ModelKind};
 
-fn by_name<'a>(fits: &'a [FitResult], kind: ModelKind, gamma_fixed: bool) -> &'a FitResult {
+fn by_name(fits: &[FitResult], kind: ModelKind, gamma_fixed: bool) -> &FitResult {
     fits.iter()
         .find(|f| f.model == kind && f.gamma_fixed == gamma_fixed)
         .expect("model present")
