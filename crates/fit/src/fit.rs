@@ -153,12 +153,22 @@ impl<'a> Prepared<'a> {
     }
 }
 
+/// The role of gamma in a model specification.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Gamma {
+    /// Beckmann and GGX have no gamma.
+    Unused,
+    /// Student-T with gamma held at this value.
+    Fixed(f64),
+    /// Student-T with gamma fitted.
+    Free,
+}
+
 /// The shape parameters searched for one model specification.
 #[derive(Debug, Clone, Copy)]
 struct Shape {
     kind: ModelKind,
-    /// `Some` when gamma is fixed (Student-T) or irrelevant (Beckmann, GGX: the value is unused).
-    gamma_fixed: Option<f64>,
+    gamma: Gamma,
 }
 
 impl Shape {
@@ -166,11 +176,11 @@ impl Shape {
         match (spec.kind, spec.gamma_fixed) {
             (ModelKind::StudentT, Some(g)) => Ok(Self {
                 kind: spec.kind,
-                gamma_fixed: Some(check_gamma(g)?),
+                gamma: Gamma::Fixed(check_gamma(g)?),
             }),
             (ModelKind::StudentT, None) => Ok(Self {
                 kind: spec.kind,
-                gamma_fixed: None,
+                gamma: Gamma::Free,
             }),
             (kind, Some(_)) => Err(FitError::InvalidSpec(format!(
                 "a fixed gamma applies to student-t only, not {}",
@@ -178,22 +188,23 @@ impl Shape {
             ))),
             (kind, None) => Ok(Self {
                 kind,
-                gamma_fixed: Some(f64::NAN),
+                gamma: Gamma::Unused,
             }),
         }
     }
 
     /// Number of searched coordinates.
     fn dims(&self) -> usize {
-        if self.gamma_fixed.is_some() { 1 } else { 2 }
+        if self.gamma == Gamma::Free { 2 } else { 1 }
     }
 
     /// `(alpha, gamma)` of search coordinates, clamped to the search box.
     fn params(&self, x: &[f64]) -> (f64, f64) {
         let alpha = x[0].clamp(ALPHA_MIN.ln(), ALPHA_MAX.ln()).exp();
-        let gamma = match self.gamma_fixed {
-            Some(g) => g,
-            None => {
+        let gamma = match self.gamma {
+            Gamma::Unused => f64::NAN,
+            Gamma::Fixed(g) => g,
+            Gamma::Free => {
                 1.5 + x[1]
                     .clamp(GAMMA_EXCESS_MIN.ln(), GAMMA_EXCESS_MAX.ln())
                     .exp()
@@ -203,9 +214,9 @@ impl Shape {
     }
 
     fn coords(&self, alpha: f64, gamma: f64) -> Vec<f64> {
-        match self.gamma_fixed {
-            Some(_) => vec![alpha.ln()],
-            None => vec![alpha.ln(), (gamma - 1.5).ln()],
+        match self.gamma {
+            Gamma::Free => vec![alpha.ln(), (gamma - 1.5).ln()],
+            Gamma::Unused | Gamma::Fixed(_) => vec![alpha.ln()],
         }
     }
 
@@ -252,9 +263,10 @@ impl Evaluator<'_, '_> {
     /// Starting points: the grid points whose cost is below that of all grid neighbours, best
     /// first, at most [`MAX_STARTS`].
     fn starts(&self) -> Vec<Vec<f64>> {
-        let gammas: &[f64] = match self.shape.gamma_fixed {
-            Some(g) => &[g],
-            None => &GAMMA_GRID,
+        let gammas: &[f64] = match &self.shape.gamma {
+            Gamma::Unused => &[f64::NAN],
+            Gamma::Fixed(g) => std::slice::from_ref(g),
+            Gamma::Free => &GAMMA_GRID,
         };
         let (na, ng) = (ALPHA_GRID.len(), gammas.len());
         let costs: Vec<f64> = gammas
@@ -405,13 +417,13 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
         model: shape.kind,
         alpha,
         gamma: fitted_gamma.then_some(gamma),
-        gamma_fixed: fitted_gamma && shape.gamma_fixed.is_some(),
+        gamma_fixed: matches!(shape.gamma, Gamma::Fixed(_)),
         scale,
         rmse_sqrt_l,
         n_points: n,
         alpha_stderr: stderr[0],
         gamma_stderr: fitted_gamma.then(|| {
-            if shape.gamma_fixed.is_some() {
+            if shape.gamma != Gamma::Free {
                 0.0
             } else {
                 stderr[1]
@@ -454,7 +466,7 @@ fn standard_errors(
     };
     let ha = 1e-4 * alpha;
     fd_column((alpha + ha, gamma), (alpha - ha, gamma), 2.0 * ha)?;
-    if eval.shape.gamma_fixed.is_none() {
+    if eval.shape.gamma == Gamma::Free {
         let hg = 1e-4 * (gamma - 1.5);
         fd_column((alpha, gamma + hg), (alpha, gamma - hg), 2.0 * hg)?;
     }
