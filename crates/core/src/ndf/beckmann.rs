@@ -125,16 +125,18 @@ pub(crate) fn visible_slope_x(a: f64, u: f64) -> f64 {
 }
 
 /// `ln G(x)`, `(ln G)'(x)` for `G(x) = exp(-x^2)/2 + a sqrt(pi)/2 erfc(-x)`, `a >= 0`: the
-/// unnormalised CDF of the visible x-slope (`G' = (a - x) exp(-x^2)`).
+/// unnormalised CDF of the visible x-slope (`G' = (a - x) exp(-x^2)`). Both terms are
+/// positive, so `G` is formed directly down to `x = -5`; further left it is scaled by
+/// `exp(-x^2)` (with `erfcx`) so that nothing underflows.
 #[inline]
 fn ln_cdf_above(a: f64, x: f64) -> (f64, f64) {
-    if x <= 0.0 {
+    if x >= -5.0 {
+        let e = (-x * x).exp();
+        let g = 0.5 * e + 0.5 * a * SQRT_PI * erfc(-x);
+        (g.ln(), (a - x) * e / g)
+    } else {
         let b = 1.0 + a * SQRT_PI * erfcx(-x);
         (-x * x + (0.5 * b).ln(), 2.0 * (a - x) / b)
-    } else {
-        let e = (-x * x).exp();
-        let g = 0.5 * e + 0.5 * a * SQRT_PI * (1.0 + erf(x));
-        (g.ln(), (a - x) * e / g)
     }
 }
 
@@ -165,11 +167,13 @@ fn slope_above(a: f64, u: f64) -> f64 {
     let mut hi = a;
     let mut x = lo;
     if a > 0.5 {
+        // For large a the density is close to a Gaussian shifted by -1/(2a):
+        // (a - x) exp(-x^2) ~ a exp(-x^2 - x/a). The unshifted quantile is an upper bound.
         let xg = statrs::function::erf::erf_inv(2.0 * u - 1.0);
         if xg < hi {
             hi = xg.max(lo);
-            x = hi;
         }
+        x = (xg - 0.5 / a).clamp(lo, hi);
     }
     for _ in 0..100 {
         let (lg, d1) = ln_cdf_above(a, x);

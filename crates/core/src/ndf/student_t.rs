@@ -96,7 +96,11 @@ impl StudentT {
         let f = self.t_norm * (-0.5 * (nu + 1.0) * q.ln_1p()).exp();
         let a = 0.5 * nu;
         let x = 1.0 / (1.0 + q);
-        let upper = if x < (a + 1.0) / (a + 2.5) {
+        // The continued fraction of I_(1-x)(1/2, a) terminates after `a` steps when
+        // `a = g - 1` is an integer: prefer it for gamma = 2 and 3 where x >= 1/2 (there
+        // I_x(a, 1/2) > 0.1, so `1/2 - ...` loses at most one digit).
+        let terminating = a.fract() == 0.0 && a <= 2.0 && x >= 0.5;
+        let upper = if x < (a + 1.0) / (a + 2.5) && !terminating {
             f * k * beta_cf(a, 0.5, x) / nu
         } else {
             0.5 - f * k * beta_cf(0.5, a, q / (1.0 + q))
@@ -117,51 +121,36 @@ impl StudentT {
     }
 }
 
-/// Continued fraction of the regularised incomplete beta function (Lentz's method, as in
-/// Numerical Recipes' `betacf`): `I_x(a, b) = x^a (1-x)^b / (a B(a, b)) * beta_cf(a, b, x)`,
-/// converging fast for `x < (a+1)/(a+b+2)`.
+/// Continued fraction of the regularised incomplete beta function (the one of Numerical
+/// Recipes' `betacf`): `I_x(a, b) = x^a (1-x)^b / (a B(a, b)) * beta_cf(a, b, x)` with
+/// `beta_cf = 1 / (1 + d1 / (1 + d2 / (1 + ...)))`, converging fast for
+/// `x < (a+1)/(a+b+2)`. Evaluated by the forward (Wallis) recurrence, renormalised once per
+/// pair of terms: one division per pair instead of Lentz's four.
 #[inline]
 fn beta_cf(a: f64, b: f64, x: f64) -> f64 {
-    const TINY: f64 = 1e-300;
     let qab = a + b;
     let qap = a + 1.0;
     let qam = a - 1.0;
-    let mut c = 1.0;
-    let mut d = 1.0 - qab * x / qap;
-    if d.abs() < TINY {
-        d = TINY;
-    }
-    d = 1.0 / d;
-    let mut h = d;
+    // Convergents A/B; (a0, b0) one step behind.
+    let (mut a0, mut b0) = (1.0, 1.0);
+    let d1 = -qab * x / qap;
+    let (mut a1, mut b1) = (1.0, 1.0 + d1);
+    let mut h = a1 / b1;
     for m in 1..10_000 {
         let m = m as f64;
         let m2 = 2.0 * m;
-        let aa = m * (b - m) * x / ((qam + m2) * (a + m2));
-        d = 1.0 + aa * d;
-        if d.abs() < TINY {
-            d = TINY;
+        let even = m * (b - m) * x / ((qam + m2) * (a + m2));
+        let (a2, b2) = (a1 + even * a0, b1 + even * b0);
+        let odd = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
+        let (a3, b3) = (a2 + odd * a1, b2 + odd * b1);
+        let r = 1.0 / b3;
+        let hn = a3 * r;
+        // Renormalise so that the convergents stay near 1.
+        (a0, b0, a1, b1) = (a2 * r, b2 * r, hn, 1.0);
+        if (hn - h).abs() <= 1e-16 * hn.abs() {
+            return hn;
         }
-        c = 1.0 + aa / c;
-        if c.abs() < TINY {
-            c = TINY;
-        }
-        d = 1.0 / d;
-        h *= d * c;
-        let aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
-        d = 1.0 + aa * d;
-        if d.abs() < TINY {
-            d = TINY;
-        }
-        c = 1.0 + aa / c;
-        if c.abs() < TINY {
-            c = TINY;
-        }
-        d = 1.0 / d;
-        let del = d * c;
-        h *= del;
-        if (del - 1.0).abs() < 1e-16 {
-            break;
-        }
+        h = hn;
     }
     h
 }
