@@ -140,19 +140,24 @@ fn ln_cdf_above(a: f64, x: f64) -> (f64, f64) {
     }
 }
 
-/// Halley's step for `h = 0` with `h' = d1` and `h'' = d1 * dlp - d1^2`, where `dlp` is the
-/// log-derivative of the density; falls back to Newton where the Halley denominator is unsafe.
-/// Returns the step and the relative step size below which the next iterate is converged to
-/// rounding (Halley is cubic, Newton quadratic).
+/// Halley's step for `h = 0` with derivatives `d1 = h'`, `d2 = h''`; falls back to Newton
+/// where the Halley denominator is unsafe. Returns the step and the relative step size below
+/// which the next iterate is converged to rounding (Halley is cubic, Newton quadratic).
 #[inline]
-fn halley_step(h: f64, d1: f64, dlp: f64) -> (f64, f64) {
-    let d2 = d1 * dlp - d1 * d1;
+fn halley_step(h: f64, d1: f64, d2: f64) -> (f64, f64) {
     let den = 2.0 * d1 * d1 - h * d2;
     if den > d1 * d1 {
         (2.0 * h * d1 / den, 1e-6)
     } else {
         (h / d1, 1e-9)
     }
+}
+
+/// `G(x) = exp(-x^2)/2 + a sqrt(pi)/2 erfc(-x)` and `exp(-x^2)`, for `x >= -5`, `a >= 0`.
+#[inline]
+fn cdf_above(a: f64, x: f64) -> (f64, f64) {
+    let e = (-x * x).exp();
+    (0.5 * e + 0.5 * a * SQRT_PI * erfc(-x), e)
 }
 
 /// Quantile `u` of the x-slope for `a >= 0`: solves `ln G(x) = ln u + ln G(a)` on
@@ -162,7 +167,6 @@ fn halley_step(h: f64, d1: f64, dlp: f64) -> (f64, f64) {
 /// density), so the iteration cannot wander.
 fn slope_above(a: f64, u: f64) -> f64 {
     let ln_u = u.ln();
-    let target = ln_u + ln_cdf_above(a, a).0;
     let mut lo = -(-ln_u).sqrt();
     let mut hi = a;
     let mut x = lo;
@@ -175,9 +179,24 @@ fn slope_above(a: f64, u: f64) -> f64 {
         }
         x = (xg - 0.5 / a).clamp(lo, hi);
     }
+    // In the bulk (u >= 1e-6, so x >= lo > -3.8) solve G(x) = u G(a) directly; in the far
+    // left tail solve in ln G, where nothing underflows.
+    let linear = u >= 1e-6;
+    let target = if linear {
+        u * cdf_above(a, a).0
+    } else {
+        ln_u + ln_cdf_above(a, a).0
+    };
     for _ in 0..100 {
-        let (lg, d1) = ln_cdf_above(a, x);
-        let h = lg - target;
+        let dlp = -1.0 / (a - x) - 2.0 * x;
+        let (h, d1, d2) = if linear {
+            let (g, e) = cdf_above(a, x);
+            let d1 = (a - x) * e;
+            (g - target, d1, d1 * dlp)
+        } else {
+            let (lg, d1) = ln_cdf_above(a, x);
+            (lg - target, d1, d1 * dlp - d1 * d1)
+        };
         if h == 0.0 {
             return x;
         }
@@ -186,8 +205,7 @@ fn slope_above(a: f64, u: f64) -> f64 {
         } else {
             lo = x;
         }
-        let dlp = -1.0 / (a - x) - 2.0 * x;
-        let (step, done) = halley_step(h, d1, dlp);
+        let (step, done) = halley_step(h, d1, d2);
         let xn = x - step;
         if !(xn > lo && xn < hi) {
             x = 0.5 * (lo + hi);
@@ -229,7 +247,7 @@ fn slope_below(n: f64, u: f64) -> f64 {
         }
         let d1 = -2.0 * y * v / b;
         let dlp = 1.0 / y - 2.0 * v;
-        let (step, done) = halley_step(h, d1, dlp);
+        let (step, done) = halley_step(h, d1, d1 * dlp - d1 * d1);
         let yn = y - step;
         if !(yn > lo && yn < hi) {
             y = 0.5 * (lo + hi);
