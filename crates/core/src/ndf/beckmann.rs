@@ -103,8 +103,15 @@ pub(crate) fn sample_visible_beckmann<R: Rng + ?Sized>(
     } else {
         (1.0, 0.0)
     };
-    // Facet normal (-alpha * slope, 1) / norm, written as (-slope, 1/alpha) / norm.
-    let m = Vec3::new(-(cp * x - sp * y), -(sp * x + cp * y), inv_alpha);
+    // Facet normal (-alpha * slope, 1) / norm, written as (-slope, 1/alpha) / norm. For
+    // astronomically rough mixture components (Student-T with gamma within ~1e-3 of 3/2)
+    // 1/alpha can underflow: the normal is then horizontal to within 1e-300 and is kept on
+    // the upper side.
+    let m = Vec3::new(
+        -(cp * x - sp * y),
+        -(sp * x + cp * y),
+        inv_alpha.max(f64::MIN_POSITIVE),
+    );
     m / m.norm()
 }
 
@@ -288,5 +295,48 @@ impl Ndf for Beckmann {
     /// sphere including below the horizon.
     fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3 {
         sample_visible_beckmann(w, self.inv_alpha, rng)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Composite Simpson rule of `f` over `(lo, hi)` with `n` (even) intervals.
+    fn simpson(f: impl Fn(f64) -> f64, lo: f64, hi: f64, n: usize) -> f64 {
+        let h = (hi - lo) / n as f64;
+        let inner: f64 = (1..n)
+            .map(|i| f(lo + i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 })
+            .sum();
+        (f(lo) + inner + f(hi)) * h / 3.0
+    }
+
+    /// The quantile function inverts an independently integrated CDF, from far below the
+    /// horizon (a = -1e3) to almost normal incidence (a = 1e8), deep into both tails.
+    #[test]
+    fn visible_slope_quantiles_invert_the_integrated_cdf() {
+        for a in [-1e3, -30.0, -3.0, -0.1, 0.0, 0.2, 1.28, 3.0, 1e3, 1e8] {
+            for u in [1e-12, 1e-4, 0.01, 0.3, 0.5, 0.9, 0.9999, 1.0 - 1e-9] {
+                let x = visible_slope_x(a, u);
+                assert!(x < a, "a {a} u {u}: x {x} not visible");
+                // CDF(x) by quadrature, in the distance y = a - x >= 0 for a < 0 (density
+                // y exp(-y^2 - 2|a| y), shifted exponent) and in x for a >= 0.
+                let cdf = if a < 0.0 {
+                    let n = -a;
+                    let p = |y: f64| y * (-y * y - 2.0 * n * y).exp();
+                    let scale = 1.0 / (1.0 + n);
+                    let top = 40.0 * scale;
+                    let total = simpson(p, 0.0, top, 200_000);
+                    simpson(p, a - x, top, 200_000) / total
+                } else {
+                    let p = |t: f64| (a - t) * (-t * t).exp();
+                    let top = a.min(40.0);
+                    let total = simpson(p, -40.0, top, 400_000);
+                    simpson(p, -40.0, x.min(top), 400_000) / total
+                };
+                let tol = 1e-8 * u.min(1.0 - u) + 1e-13;
+                assert!((cdf - u).abs() < tol, "a {a} u {u}: x {x}, CDF {cdf}");
+            }
+        }
     }
 }
