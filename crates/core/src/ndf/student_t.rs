@@ -108,16 +108,18 @@ impl StudentT {
         (nu + k * k) / (nu - 1.0) * f - k * upper
     }
 
-    /// Draws `ln m` from part 1 of the tilted mixing density: `Gamma(g - 3/2, rate 1 + k)`,
-    /// in log space (for shape `< 1`, `X U^(1/shape)` with `X ~ Gamma(shape + 1)`).
+    /// Draws `sqrt(m)` from part 1 of the tilted mixing density: `m ~ Gamma(g - 3/2,
+    /// rate 1 + k)`. For shape `< 1`, `m = X U^(1/shape)` with `X ~ Gamma(shape + 1)`, formed
+    /// in log space because `U^(1/shape)` underflows for gamma near 3/2.
     #[inline]
-    fn draw_ln_m_part1<R: Rng + ?Sized>(&self, ln1p_k: f64, rng: &mut R) -> f64 {
+    fn draw_sqrt_m_part1<R: Rng + ?Sized>(&self, k: f64, rng: &mut R) -> f64 {
         let shape1 = self.gamma - 1.5;
-        let mut ln_m = self.part1.sample(rng).ln() - ln1p_k;
+        let x = self.part1.sample(rng);
         if shape1 < 1.0 {
-            ln_m += open_uniform(rng).ln() / shape1;
+            (0.5 * (x.ln() - k.ln_1p() + open_uniform(rng).ln() / shape1)).exp()
+        } else {
+            (x / (1.0 + k)).sqrt()
         }
-        ln_m
     }
 }
 
@@ -200,26 +202,24 @@ impl Ndf for StudentT {
         }
         let mu = c.abs() / sin;
         let k = mu * mu * self.inv_a2g1;
-        let ln1p_k = k.ln_1p();
-        let w1 = sin * self.w1_scale * (-(self.gamma - 1.5) * ln1p_k).exp();
-        let ln_m = loop {
+        let w1 = sin * self.w1_scale * (-(self.gamma - 1.5) * k.ln_1p()).exp();
+        let sqrt_m = loop {
             if c >= 0.0 {
                 if w1.is_finite() && open_uniform(rng) * (w1 + c) < w1 {
-                    break self.draw_ln_m_part1(ln1p_k, rng);
+                    break self.draw_sqrt_m_part1(k, rng);
                 }
                 let m = self.mix.sample(rng);
                 if m > 0.0 && open_uniform(rng) >= 0.5 * erfc((k * m).sqrt()) {
-                    break m.ln();
+                    break m.sqrt();
                 }
             } else {
-                let ln_m = self.draw_ln_m_part1(ln1p_k, rng);
-                let a = k.sqrt() * (0.5 * ln_m).exp();
-                if open_uniform(rng) < erfcx_gap(a) {
-                    break ln_m;
+                let sqrt_m = self.draw_sqrt_m_part1(k, rng);
+                if open_uniform(rng) < erfcx_gap(k.sqrt() * sqrt_m) {
+                    break sqrt_m;
                 }
             }
         };
-        let inv_alpha_m = (0.5 * ln_m).exp() / self.alpha_g1;
+        let inv_alpha_m = sqrt_m / self.alpha_g1;
         sample_visible_beckmann(w, inv_alpha_m, rng)
     }
 }
