@@ -291,8 +291,12 @@ impl Ndf for Beckmann {
         sigma_beckmann(c, s, self.alpha)
     }
 
-    /// Exact: stretched visible-slope CDF inversion ([`visible_slope_x`]), valid on the whole
-    /// sphere including below the horizon.
+    /// Exact: stretch to alpha = 1, invert the CDF of the visible x-slope (density
+    /// proportional to `(a - x)_+ exp(-x^2)`, `a = cot theta'`) by safeguarded Halley
+    /// iteration between exact bounds, draw the y-slope from `N(0, 1/2)`, rotate to the
+    /// azimuth of `w` and unstretch. Valid on the whole sphere including below the horizon
+    /// (there the inversion runs in the distance `a - x` with `erfcx`, so far tails neither
+    /// cancel nor underflow). Returns `+z` for `w = -z`, where nothing is visible.
     fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3 {
         sample_visible_beckmann(w, self.inv_alpha, rng)
     }
