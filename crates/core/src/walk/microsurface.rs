@@ -29,6 +29,14 @@ use rand_distr::Exp1;
 ///   random numbers independent of the sample it weights.
 ///
 /// Only the paths selected by [`ScatteringOrders`] contribute.
+///
+/// Variance: the next-event estimate of `eval` is heavy-tailed. A walker that hits the surface
+/// while travelling steeply upward sees few facets (small `sigma`), so its visible-normal
+/// density, and the phase value, is large, while such hits are rare. Multiple scattering toward
+/// grazing or weakly reachable directions therefore converges slowly, and for Student-T with
+/// `gamma < 2` (where `D` itself grows without bound toward grazing facets) the estimate has
+/// infinite variance: means converge, standard errors do not describe them. Sampling
+/// (`sample`, `albedo`) has no such issue: every walk has a bounded weight.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Microsurface<N, F> {
     ndf: N,
