@@ -6,9 +6,13 @@
 //! through; the measured quantity is `L = scale * f_t(wi, wo) * cos(theta_i) / eta^2`.
 
 pub mod data;
+pub mod load;
 pub mod model;
+pub mod synth;
 
 pub use data::{Dataset, Measurement, Sample};
+pub use load::{LoadError, LoadErrorKind, load_path};
 pub use model::{
     FitOptions, FitResult, Loss, ModelKind, ModelParams, ModelSpec, Optimizer, Scattering,
 };
+pub use synth::{SynthError, SynthSpec};
