@@ -281,6 +281,7 @@ fn invalid_fit_flags() {
             "invalid value 'cook-torrance'",
         ),
         (vec![p, "--eta", "abc"], "invalid value 'abc'"),
+        (vec![p, "--out", p], "refusing to overwrite"),
         (vec![], "required"),
     ] {
         let out = stfit(&args);

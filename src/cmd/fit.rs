@@ -123,6 +123,15 @@ pub fn run(args: FitArgs) -> CmdResult {
         ..FitOptions::default()
     };
 
+    if let Some(out) = &args.out {
+        let same = |a: &std::path::Path, b: &std::path::Path| matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b);
+        if same(out, path) {
+            return Err(CmdError::Usage(format!(
+                "--out {} is the data file; refusing to overwrite it",
+                out.display()
+            )));
+        }
+    }
     let data = Dataset::load(path)?;
     let samples: Vec<&Sample> = match &args.sample {
         Some(name) => vec![data.sample(name)?],
