@@ -419,46 +419,32 @@ impl Header {
                 .map_err(|_| err(&self.names[i], LoadErrorKind::NotUtf8))?;
             fields.push(text.trim());
         }
-        let field = |i: usize| -> Result<&str, LoadError> {
-            fields.get(i).copied().ok_or_else(|| {
-                err(
-                    &self.names[i],
-                    LoadErrorKind::ShortRow {
-                        found: record.len(),
-                        expected: self.len,
-                    },
-                )
-            })
-        };
+        if fields.len() < self.len {
+            return Err(err(
+                &self.names[fields.len()],
+                LoadErrorKind::ShortRow {
+                    found: fields.len(),
+                    expected: self.len,
+                },
+            ));
+        }
         // Check the fields left to right so that the first bad one is reported.
         let mut order = vec![self.theta_i, self.theta_o, self.value.0];
         order.extend(self.sample);
         order.extend(self.weight);
         order.sort_unstable();
-        for &i in &order {
-            field(i)?;
-        }
-        let number = |i: usize| -> Result<f64, LoadError> {
-            let text = field(i)?;
-            parse_finite(text).map_err(|kind| err(&self.names[i], kind))
-        };
-        let name = match self.sample {
-            Some(i) => {
-                let name = field(i)?;
-                if name.is_empty() {
-                    return Err(err(COL_SAMPLE, LoadErrorKind::EmptySampleName));
-                }
-                name.to_owned()
-            }
-            None => String::new(),
-        };
+        let mut name = String::new();
         let mut values = [0.0; 3];
         let mut weight = 1.0;
         for &i in &order {
             if Some(i) == self.sample {
+                if fields[i].is_empty() {
+                    return Err(err(COL_SAMPLE, LoadErrorKind::EmptySampleName));
+                }
+                fields[i].clone_into(&mut name);
                 continue;
             }
-            let x = number(i)?;
+            let x = parse_finite(fields[i]).map_err(|kind| err(&self.names[i], kind))?;
             if i == self.theta_i {
                 if !(0.0..90.0).contains(&x) {
                     return Err(err(
@@ -660,6 +646,21 @@ mod tests {
     fn first_bad_field_from_the_left_is_reported() {
         let (_, column, _) = kind_at("L,theta_i_deg,theta_o_deg\n-1,95,45\n");
         assert_eq!(column.as_deref(), Some("L"));
+        let (_, column, _) = kind_at("theta_i_deg,sample,theta_o_deg,L\n95,,180,1\n");
+        assert_eq!(column.as_deref(), Some("theta_i_deg"));
+    }
+
+    #[test]
+    fn a_row_missing_only_an_unrecognised_field_is_short_too() {
+        let (line, column, kind) = kind_at("theta_i_deg,theta_o_deg,L,notes\n0,180,1,x\n0,180,1\n");
+        assert_eq!((line, column.as_deref()), (Some(3), Some("notes")));
+        assert_eq!(
+            kind,
+            LoadErrorKind::ShortRow {
+                found: 3,
+                expected: 4
+            }
+        );
     }
 
     #[test]
