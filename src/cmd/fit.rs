@@ -167,10 +167,9 @@ pub fn run(args: FitArgs) -> CmdResult {
     }
 }
 
-/// MERGE: the one call into the fitting engine, `stfit_fit::fit::fit_sample(sample, spec,
-/// opts)`. Until the engine is on main this reports that it is missing.
-fn fit_one(_sample: &Sample, _spec: ModelSpec, _opts: &FitOptions) -> Result<FitResult, String> {
-    Err("the fitting engine is not merged into this build yet".into())
+/// Fits one model to one sample with the fitting engine.
+fn fit_one(sample: &Sample, spec: ModelSpec, opts: &FitOptions) -> Result<FitResult, String> {
+    stfit_fit::fit_sample(sample, spec, opts).map_err(|e| e.to_string())
 }
 
 /// The models to fit for `--model` and `--gamma`.

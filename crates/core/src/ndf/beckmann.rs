@@ -1,26 +1,29 @@
 //! The Beckmann NDF.
 
-use super::{Ndf, cos_tan2, lambda_on_sphere};
+use super::special::{FRAC_1_SQRT_PI, SQRT_PI, erfcx, erfcx_gap};
+use super::{Ndf, cos2_sin2, lambda_on_sphere};
 use crate::error::{ParamError, check_alpha};
 use crate::math::Vec3;
-use rand::Rng;
-use statrs::function::erf::{erf, erfc};
-use std::f64::consts::PI;
-
-const INV_SQRT_PI: f64 = 0.564_189_583_547_756_3;
+use libm::{erf, erfc};
+use rand::{Rng, RngExt};
+use rand_distr::StandardNormal;
+use std::f64::consts::FRAC_1_SQRT_2;
 
 /// Beckmann: `D(u) = exp(-tan^2 theta / alpha^2) / (pi alpha^2 u^4)`; slopes are Gaussian with
 /// standard deviation `alpha / sqrt(2)` per axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Beckmann {
     alpha: f64,
+    inv_alpha: f64,
 }
 
 impl Beckmann {
     /// A Beckmann NDF of roughness `alpha > 0`.
     pub fn new(alpha: f64) -> Result<Self, ParamError> {
+        let alpha = check_alpha(alpha)?;
         Ok(Self {
-            alpha: check_alpha(alpha)?,
+            alpha,
+            inv_alpha: 1.0 / alpha,
         })
     }
 
@@ -31,41 +34,256 @@ impl Beckmann {
 }
 
 /// Beckmann Lambda for an upward direction with `a = cot(theta) / alpha > 0`:
-/// `(erf(a) - 1) / 2 + exp(-a^2) / (2 a sqrt(pi))`.
+/// `(erf(a) - 1) / 2 + exp(-a^2) / (2 a sqrt(pi))`. For `a >= 4` it is evaluated as
+/// `exp(-a^2) gap(a) / (2 a sqrt(pi))` ([`erfcx_gap`]) to avoid the cancellation of the two
+/// terms.
 #[inline]
 pub(crate) fn lambda_beckmann_a(a: f64) -> f64 {
-    0.5 * (INV_SQRT_PI * (-a * a).exp() / a - erfc(a))
+    if a < 4.0 {
+        0.5 * (FRAC_1_SQRT_PI * (-a * a).exp() / a - erfc(a))
+    } else {
+        0.5 * FRAC_1_SQRT_PI * (-a * a).exp() * erfcx_gap(a) / a
+    }
 }
 
 /// Beckmann projected area for `cos theta = c`, `sin theta = s`, valid on the whole sphere:
 /// `sigma = c (1 + erf(a)) / 2 + s alpha exp(-a^2) / (2 sqrt(pi))` with `a = c / (s alpha)`.
+/// Below the horizon the two terms nearly cancel; there it is evaluated as
+/// `s alpha exp(-a^2) gap(|a|) / (2 sqrt(pi))`.
 #[inline]
 pub(crate) fn sigma_beckmann(c: f64, s: f64, alpha: f64) -> f64 {
     if s == 0.0 {
         return c.max(0.0);
     }
     let a = c / (s * alpha);
-    let head = if c >= 0.0 {
-        0.5 * c * (1.0 + erf(a))
+    let tail = 0.5 * s * alpha * FRAC_1_SQRT_PI * (-a * a).exp();
+    if c >= 0.0 {
+        0.5 * c * (1.0 + erf(a)) + tail
     } else {
-        0.5 * c * erfc(-a)
+        tail * erfcx_gap(-a)
+    }
+}
+
+/// A uniform variate strictly inside `(0, 1)`: `(k + 1/2) 2^-53` with `k` uniform.
+#[inline]
+pub(crate) fn open_uniform<R: Rng + ?Sized>(rng: &mut R) -> f64 {
+    ((rng.random::<u64>() >> 11) as f64 + 0.5) * (1.0 / (1u64 << 53) as f64)
+}
+
+/// Draws a Beckmann visible normal seen from the unit direction `w`, for roughness
+/// `1 / inv_alpha` (the inverse is passed so that the Student-T mixture can reach
+/// arbitrarily large roughness without overflow). Exact for every `w` with `sigma(w) > 0`;
+/// returns `+z` for `w = -z`, where nothing is visible.
+///
+/// Stretching to alpha = 1 (Heitz and d'Eon 2014): with `s = sin theta`, the stretched
+/// direction has `cot theta' = a = w.z / (alpha s)`. In the frame rotated to the azimuth of
+/// `w` the visible slopes of the unit-roughness surface have density proportional to
+/// `(a - x)_+ exp(-x^2 - y^2)` (slope convention `(-wm.x/wm.z, -wm.y/wm.z)`): the x-slope is
+/// drawn by inverting its CDF ([`visible_slope_x`]), the y-slope is `N(0, 1/2)`. The slopes
+/// are rotated back to the azimuth of `w` and scaled by alpha.
+#[inline]
+pub(crate) fn sample_visible_beckmann<R: Rng + ?Sized>(
+    w: Vec3,
+    inv_alpha: f64,
+    rng: &mut R,
+) -> Vec3 {
+    let s = (w.x * w.x + w.y * w.y).sqrt();
+    let u = open_uniform(rng);
+    let y = rng.sample::<f64, _>(StandardNormal) * FRAC_1_SQRT_2;
+    let a = if s > 0.0 {
+        w.z * inv_alpha / s
+    } else if w.z > 0.0 {
+        f64::INFINITY
+    } else {
+        return Vec3::z();
     };
-    head + 0.5 * s * alpha * INV_SQRT_PI * (-a * a).exp()
+    let x = visible_slope_x(a, u);
+    let (cp, sp) = if s > 0.0 {
+        (w.x / s, w.y / s)
+    } else {
+        (1.0, 0.0)
+    };
+    // Facet normal (-alpha * slope, 1) / norm, written as (-slope, 1/alpha) / norm. For
+    // astronomically rough mixture components (Student-T with gamma within ~1e-3 of 3/2)
+    // 1/alpha can underflow: the normal is then horizontal to within 1e-300 and is kept on
+    // the upper side.
+    let m = Vec3::new(
+        -(cp * x - sp * y),
+        -(sp * x + cp * y),
+        inv_alpha.max(f64::MIN_POSITIVE),
+    );
+    m / m.norm()
+}
+
+/// Inverts the CDF of the visible x-slope of the unit-roughness Beckmann surface seen from
+/// `cot theta = a`: density proportional to `(a - x)_+ exp(-x^2)` on `x < a`. `u` in `(0, 1)`;
+/// `a = +inf` gives the plain `N(0, 1/2)` quantile. Valid for every real `a`; for `a < 0`
+/// (below the horizon) the far tail is solved in the distance `a - x` to the visibility limit.
+#[inline]
+pub(crate) fn visible_slope_x(a: f64, u: f64) -> f64 {
+    if a >= 0.0 {
+        if a == f64::INFINITY {
+            return statrs::function::erf::erf_inv(2.0 * u - 1.0);
+        }
+        slope_above(a, u)
+    } else {
+        a - slope_below(-a, u)
+    }
+}
+
+/// `ln G(x)`, `(ln G)'(x)` for `G(x) = exp(-x^2)/2 + a sqrt(pi)/2 erfc(-x)`, `a >= 0`: the
+/// unnormalised CDF of the visible x-slope (`G' = (a - x) exp(-x^2)`). Both terms are
+/// positive, so `G` is formed directly down to `x = -5`; further left it is scaled by
+/// `exp(-x^2)` (with `erfcx`) so that nothing underflows.
+#[inline]
+fn ln_cdf_above(a: f64, x: f64) -> (f64, f64) {
+    if x >= -5.0 {
+        let e = (-x * x).exp();
+        let g = 0.5 * e + 0.5 * a * SQRT_PI * erfc(-x);
+        (g.ln(), (a - x) * e / g)
+    } else {
+        let b = 1.0 + a * SQRT_PI * erfcx(-x);
+        (-x * x + (0.5 * b).ln(), 2.0 * (a - x) / b)
+    }
+}
+
+/// Halley's step for `h = 0` with derivatives `d1 = h'`, `d2 = h''`; falls back to Newton
+/// where the Halley denominator is unsafe. Returns the step and the relative step size below
+/// which the next iterate is converged to rounding (Halley is cubic, Newton quadratic).
+#[inline]
+fn halley_step(h: f64, d1: f64, d2: f64) -> (f64, f64) {
+    let den = 2.0 * d1 * d1 - h * d2;
+    if den > d1 * d1 {
+        (2.0 * h * d1 / den, 1e-6)
+    } else {
+        (h / d1, 1e-9)
+    }
+}
+
+/// `G(x) = exp(-x^2)/2 + a sqrt(pi)/2 erfc(-x)` and `exp(-x^2)`, for `x >= -5`, `a >= 0`.
+#[inline]
+fn cdf_above(a: f64, x: f64) -> (f64, f64) {
+    let e = (-x * x).exp();
+    (0.5 * e + 0.5 * a * SQRT_PI * erfc(-x), e)
+}
+
+/// Quantile `u` of the x-slope for `a >= 0`: solves `ln G(x) = ln u + ln G(a)` on
+/// `[-sqrt(-ln u), min(a, x_gauss)]` (both bounds are exact: `G(x)/G(a) <= exp(-x^2)` for
+/// `x <= 0`, and the visible slope is stochastically smaller than the unconditioned Gaussian
+/// slope) by Halley's method with a bisection safeguard. `ln G` is concave (log-concave
+/// density), so the iteration cannot wander.
+fn slope_above(a: f64, u: f64) -> f64 {
+    let ln_u = u.ln();
+    let mut lo = -(-ln_u).sqrt();
+    let mut hi = a;
+    let mut x = lo;
+    if a > 0.5 {
+        // For large a the density is close to a Gaussian shifted by -1/(2a):
+        // (a - x) exp(-x^2) ~ a exp(-x^2 - x/a). The unshifted quantile is an upper bound.
+        let xg = statrs::function::erf::erf_inv(2.0 * u - 1.0);
+        if xg < hi {
+            hi = xg.max(lo);
+        }
+        x = (xg - 0.5 / a).clamp(lo, hi);
+    }
+    // In the bulk (u >= 1e-6, so x >= lo > -3.8) solve G(x) = u G(a) directly; in the far
+    // left tail solve in ln G, where nothing underflows.
+    let linear = u >= 1e-6;
+    let target = if linear {
+        u * cdf_above(a, a).0
+    } else {
+        ln_u + ln_cdf_above(a, a).0
+    };
+    for _ in 0..100 {
+        let dlp = -1.0 / (a - x) - 2.0 * x;
+        let (h, d1, d2) = if linear {
+            let (g, e) = cdf_above(a, x);
+            let d1 = (a - x) * e;
+            (g - target, d1, d1 * dlp)
+        } else {
+            let (lg, d1) = ln_cdf_above(a, x);
+            (lg - target, d1, d1 * dlp - d1 * d1)
+        };
+        if h == 0.0 {
+            return x;
+        }
+        if h > 0.0 {
+            hi = x;
+        } else {
+            lo = x;
+        }
+        let (step, done) = halley_step(h, d1, d2);
+        let xn = x - step;
+        if !(xn > lo && xn < hi) {
+            x = 0.5 * (lo + hi);
+            if hi - lo <= 1e-15 * (1.0 + x.abs()) {
+                return x;
+            }
+            continue;
+        }
+        if step.abs() <= done * (1.0 + x.abs()) {
+            return xn;
+        }
+        x = xn;
+    }
+    x
+}
+
+/// Quantile of the distance `y = a - x >= 0` for `a = -n < 0`: survival `S(y) = u` with
+/// `ln S(y) = -y (y + 2n) + ln((y + n gap(y + n)) / (y + n)) - ln gap(n)` (density in `y`
+/// proportional to `y exp(-(y + n)^2)`, no cancellation or underflow however far below the
+/// horizon), by Halley's method from the exact upper bound `y (y + 2n) = -ln u - ln gap(n)`.
+fn slope_below(n: f64, u: f64) -> f64 {
+    let ln_u = u.ln();
+    let ln_gap_n = erfcx_gap(n).ln();
+    let l = -ln_u - ln_gap_n;
+    let mut lo = 0.0;
+    let mut hi = l / (n + (n * n + l).sqrt());
+    let mut y = hi;
+    for _ in 0..100 {
+        let v = y + n;
+        let b = y + n * erfcx_gap(v);
+        let h = -y * (y + 2.0 * n) + (b / v).ln() - ln_gap_n - ln_u;
+        if h == 0.0 {
+            return y;
+        }
+        if h > 0.0 {
+            lo = y;
+        } else {
+            hi = y;
+        }
+        let d1 = -2.0 * y * v / b;
+        let dlp = 1.0 / y - 2.0 * v;
+        let (step, done) = halley_step(h, d1, d1 * dlp - d1 * d1);
+        let yn = y - step;
+        if !(yn > lo && yn < hi) {
+            y = 0.5 * (lo + hi);
+            if hi - lo <= 1e-15 * y {
+                return y;
+            }
+            continue;
+        }
+        if step.abs() <= done * y {
+            return yn;
+        }
+        y = yn;
+    }
+    y
 }
 
 impl Ndf for Beckmann {
+    /// `exp(-tan^2 / alpha^2 - 2 ln cos^2) / (pi alpha^2)`: zero, not NaN, at grazing normals.
     fn d(&self, wm: Vec3) -> f64 {
-        let Some((u, t2)) = cos_tan2(wm) else {
+        let Some((u2, sin2)) = cos2_sin2(wm) else {
             return 0.0;
         };
-        let a2 = self.alpha * self.alpha;
-        let u2 = u * u;
-        (-t2 / a2).exp() / (PI * a2 * u2 * u2)
+        let ia2 = self.inv_alpha * self.inv_alpha;
+        (-sin2 / u2 * ia2 - 2.0 * u2.ln()).exp() * ia2 * std::f64::consts::FRAC_1_PI
     }
 
     fn lambda(&self, w: Vec3) -> f64 {
-        let alpha = self.alpha;
-        lambda_on_sphere(w, |mu| lambda_beckmann_a(mu / alpha))
+        let inv_alpha = self.inv_alpha;
+        lambda_on_sphere(w, |mu| lambda_beckmann_a(mu * inv_alpha))
     }
 
     fn sigma(&self, w: Vec3) -> f64 {
@@ -73,7 +291,56 @@ impl Ndf for Beckmann {
         sigma_beckmann(c, s, self.alpha)
     }
 
-    fn sample_visible<R: Rng + ?Sized>(&self, _w: Vec3, _rng: &mut R) -> Vec3 {
-        unimplemented!("exact Beckmann visible-normal sampling lands with the sampler commit")
+    /// Exact: stretch to alpha = 1, invert the CDF of the visible x-slope (density
+    /// proportional to `(a - x)_+ exp(-x^2)`, `a = cot theta'`) by safeguarded Halley
+    /// iteration between exact bounds, draw the y-slope from `N(0, 1/2)`, rotate to the
+    /// azimuth of `w` and unstretch. Valid on the whole sphere including below the horizon
+    /// (there the inversion runs in the distance `a - x` with `erfcx`, so far tails neither
+    /// cancel nor underflow). Returns `+z` for `w = -z`, where nothing is visible.
+    fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3 {
+        sample_visible_beckmann(w, self.inv_alpha, rng)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Composite Simpson rule of `f` over `(lo, hi)` with `n` (even) intervals.
+    fn simpson(f: impl Fn(f64) -> f64, lo: f64, hi: f64, n: usize) -> f64 {
+        let h = (hi - lo) / n as f64;
+        let inner: f64 = (1..n)
+            .map(|i| f(lo + i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 })
+            .sum();
+        (f(lo) + inner + f(hi)) * h / 3.0
+    }
+
+    /// The quantile function inverts an independently integrated CDF, from far below the
+    /// horizon (a = -1e3) to almost normal incidence (a = 1e8), deep into both tails.
+    #[test]
+    fn visible_slope_quantiles_invert_the_integrated_cdf() {
+        for a in [-1e3, -30.0, -3.0, -0.1, 0.0, 0.2, 1.28, 3.0, 1e3, 1e8] {
+            for u in [1e-12, 1e-4, 0.01, 0.3, 0.5, 0.9, 0.9999, 1.0 - 1e-9] {
+                let x = visible_slope_x(a, u);
+                assert!(x < a, "a {a} u {u}: x {x} not visible");
+                // CDF(x) by quadrature, in the distance y = a - x >= 0 for a < 0 (density
+                // y exp(-y^2 - 2|a| y), shifted exponent) and in x for a >= 0.
+                let cdf = if a < 0.0 {
+                    let n = -a;
+                    let p = |y: f64| y * (-y * y - 2.0 * n * y).exp();
+                    let scale = 1.0 / (1.0 + n);
+                    let top = 40.0 * scale;
+                    let total = simpson(p, 0.0, top, 200_000);
+                    simpson(p, a - x, top, 200_000) / total
+                } else {
+                    let p = |t: f64| (a - t) * (-t * t).exp();
+                    let top = a.min(40.0);
+                    let total = simpson(p, -40.0, top, 400_000);
+                    simpson(p, -40.0, x.min(top), 400_000) / total
+                };
+                let tol = 1e-8 * u.min(1.0 - u) + 1e-13;
+                assert!((cdf - u).abs() < tol, "a {a} u {u}: x {x}, CDF {cdf}");
+            }
+        }
     }
 }
