@@ -187,12 +187,8 @@ fn model_specs(model: ModelArg, gamma: Option<f64>) -> Result<Vec<ModelSpec>, Cm
         ModelArg::Beckmann => vec![spec(ModelKind::Beckmann, None)],
         ModelArg::Ggx => vec![spec(ModelKind::Ggx, None)],
         ModelArg::StudentT => vec![spec(ModelKind::StudentT, gamma)],
-        ModelArg::All => vec![
-            spec(ModelKind::Beckmann, None),
-            spec(ModelKind::Ggx, None),
-            spec(ModelKind::StudentT, Some(3.0)),
-            spec(ModelKind::StudentT, None),
-        ],
+        // Beckmann, GGX, Student-T with gamma fixed at 3, Student-T with free gamma.
+        ModelArg::All => stfit_fit::fit::all_models().to_vec(),
     })
 }
 
@@ -213,7 +209,7 @@ fn sig(x: f64, digits: usize) -> String {
         return "0".into();
     }
     let exponent = x.abs().log10().floor() as i32;
-    if !(-3..6).contains(&exponent) {
+    if !(-5..6).contains(&exponent) {
         return format!("{:.*e}", digits.saturating_sub(1), x);
     }
     let decimals = (digits as i32 - 1 - exponent).max(0) as usize;
@@ -317,6 +313,7 @@ mod tests {
         assert_eq!(sig(0.001234, 2), "0.0012");
         assert_eq!(sig(1234.6, 2), "1235");
         assert_eq!(sig(1.5e-9, 2), "1.5e-9");
+        assert_eq!(sig(2.14e-4, 2), "0.00021");
         assert_eq!(sig(0.0, 3), "0");
         assert_eq!(sig(f64::NAN, 3), "NaN");
     }
