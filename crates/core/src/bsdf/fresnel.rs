@@ -45,5 +45,5 @@ pub fn fresnel_conductor(cos_i: f64, eta: Complex<f64>) -> f64 {
     let ci = Complex::new(cos_i, 0.0);
     let r_parallel = (eta * ci - cos_t) / (eta * ci + cos_t);
     let r_perpendicular = (ci - eta * cos_t) / (ci + eta * cos_t);
-    0.5 * (r_parallel.norm_sqr() + r_perpendicular.norm_sqr())
+    (0.5 * (r_parallel.norm_sqr() + r_perpendicular.norm_sqr())).min(1.0)
 }
