@@ -1,0 +1,3 @@
+//! The subcommands of the `stfit` binary, one module each.
+
+pub mod eval;
