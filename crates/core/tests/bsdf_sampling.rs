@@ -3,16 +3,16 @@
 
 mod bsdf_common;
 
-use bsdf_common::{chi_square_sphere, dir_deg, integrate_sphere};
+use bsdf_common::{chi_square_sampler, dir_deg, integrate_sphere};
 use rand::SeedableRng;
 use rand_pcg::Pcg64;
-use std::cell::RefCell;
 use stfit_core::Vec3;
 use stfit_core::bsdf::{
     Bsdf, Lambertian, Masking, RoughConductor, RoughDielectric, SmoothConductor, SmoothDielectric,
     fresnel_conductor, fresnel_dielectric,
 };
 use stfit_core::ndf::{AnyNdf, Ggx};
+use stfit_core::validate::bonferroni;
 
 /// NDFs whose exact visible-normal sampler is available. Beckmann and Student-T join this list
 /// when their samplers land (`Beckmann::new(alpha)`, `StudentT::new(alpha, 3.0)`).
@@ -54,35 +54,33 @@ fn rough_conductor_cases() -> Vec<(RoughConductor<AnyNdf>, Vec3)> {
     cases
 }
 
-/// `wo -> eval(wi, wo)` for quadrature (the rng is unused by analytic BSDFs).
-fn eval_of<B: Bsdf>(bsdf: &B, wi: Vec3) -> impl Fn(Vec3) -> f64 + '_ {
-    let rng = RefCell::new(Pcg64::seed_from_u64(0));
-    move |wo| bsdf.eval(wi, wo, &mut *rng.borrow_mut())
+/// `wo -> eval(wi, wo)` for quadrature (analytic BSDFs ignore the rng).
+fn eval_of<B: Bsdf>(bsdf: &B, wi: Vec3) -> impl Fn(Vec3) -> f64 + Sync + '_ {
+    move |wo| bsdf.eval(wi, wo, &mut Pcg64::seed_from_u64(0))
 }
 
 /// `wo -> pdf(wi, wo)` for quadrature.
-fn pdf_of<B: Bsdf>(bsdf: &B, wi: Vec3) -> impl Fn(Vec3) -> f64 + '_ {
-    let rng = RefCell::new(Pcg64::seed_from_u64(0));
-    move |wo| bsdf.pdf(wi, wo, &mut *rng.borrow_mut())
+fn pdf_of<B: Bsdf>(bsdf: &B, wi: Vec3) -> impl Fn(Vec3) -> f64 + Sync + '_ {
+    move |wo| bsdf.pdf(wi, wo, &mut Pcg64::seed_from_u64(0))
 }
 
 /// Runs the chi-square test of `bsdf.sample` against `bsdf.pdf` for every case and fails with
 /// the list of rejected cases.
 fn assert_sampler_matches_pdf<B: Bsdf + std::fmt::Debug>(cases: &[(B, Vec3)], n: usize) {
-    let level = SIGNIFICANCE / cases.len() as f64;
+    let level = bonferroni(SIGNIFICANCE, cases.len());
     let mut failures = Vec::new();
     for (k, (bsdf, wi)) in cases.iter().enumerate() {
         let mut rng = Pcg64::seed_from_u64(0x5eed_0000 + k as u64);
         let wi = *wi;
-        let test = chi_square_sphere(
+        let test = chi_square_sampler(
             || bsdf.sample(wi, &mut rng).map(|s| s.wo),
             pdf_of(bsdf, wi),
             n,
             32,
             64,
         );
-        if test.p_value < level {
-            failures.push(format!("{bsdf:?}, wi {wi:?}: {test:?}"));
+        if !test.passes(level) {
+            failures.push(format!("{bsdf:?}, wi {wi:?}: {test}"));
         }
     }
     assert!(failures.is_empty(), "rejected:\n{}", failures.join("\n"));
@@ -122,14 +120,14 @@ fn chi_square_rejects_a_wrong_pdf() {
     ];
     for (k, (sampler, density)) in mismatched.iter().enumerate() {
         let mut rng = Pcg64::seed_from_u64(77 + k as u64);
-        let test = chi_square_sphere(
+        let test = chi_square_sampler(
             || sampler.sample(wi, &mut rng).map(|s| s.wo),
             pdf_of(density, wi),
             200_000,
             32,
             64,
         );
-        assert!(test.p_value < 1e-6, "{k}: not rejected: {test:?}");
+        assert!(test.p_value < 1e-6, "{k}: not rejected: {test}");
     }
 }
 
