@@ -128,17 +128,16 @@ impl<N: Ndf> RoughDielectric<N> {
         }
     }
 
-    /// Solid-angle density of `wo` under [`Bsdf::sample`] given the half vector and the
-    /// projected area `sigma_i` seen from the side of `wi`:
-    /// `D_wi(h) |dh/dwo| (F or 1 - F)` with `D_wi(h) = |wi.h| D(h) / sigma_i`.
+    /// Solid-angle density of `wo` under [`Bsdf::sample`] given the half vector, the
+    /// projected area `sigma_i` seen from the side of `wi` and the Fresnel reflectance
+    /// `f = F(wi.h)`: `D_wi(h) |dh/dwo| (F or 1 - F)` with `D_wi(h) = |wi.h| D(h) / sigma_i`.
     #[inline]
-    fn pdf_half(&self, hv: &HalfVector, sigma_i: f64) -> f64 {
+    fn pdf_half(&self, hv: &HalfVector, sigma_i: f64, f: f64) -> f64 {
         let d = self.ndf.d(hv.h);
         if d == 0.0 || sigma_i <= 0.0 || sigma_i.is_nan() {
             return 0.0;
         }
         let d_visible = hv.cos_ih.abs() * d / sigma_i;
-        let f = fresnel_dielectric(hv.cos_ih, self.eta);
         if hv.reflect {
             d_visible / (4.0 * hv.cos_ih.abs()) * f
         } else {
@@ -165,11 +164,11 @@ impl<N: Ndf> Bsdf for RoughDielectric<N> {
         let cos_ih = wi.dot(&h);
         let f = fresnel_dielectric(cos_ih, self.eta);
         let reflect_lobe = rng.random::<f64>() < f;
+        let n_i = self.index(wi.z);
+        let n_o = if reflect_lobe { n_i } else { self.index(-wi.z) };
         let wo = if reflect_lobe {
             reflect(wi, h)
         } else {
-            let n_i = self.index(wi.z);
-            let n_o = self.index(-wi.z);
             // The facet normal on the side of wi.
             let facing = if cos_ih < 0.0 { -h } else { h };
             refract(wi, facing, n_o / n_i)?
@@ -177,9 +176,17 @@ impl<N: Ndf> Bsdf for RoughDielectric<N> {
         if (wo.z * wi.z > 0.0) != reflect_lobe || wo.z == 0.0 {
             return None;
         }
-        let hv = self.half_vector(wi, wo)?;
+        // By construction wo lies on the same side of h as of the macro-surface.
+        let hv = HalfVector {
+            h,
+            cos_ih,
+            cos_oh: wo.dot(&h),
+            n_i,
+            n_o,
+            reflect: reflect_lobe,
+        };
         let sigma_i = projected_area(&self.ndf, wi);
-        let pdf = self.pdf_half(&hv, sigma_i);
+        let pdf = self.pdf_half(&hv, sigma_i, f);
         let a_i = sigma_i / wi.z.abs();
         let a_o = projected_area(&self.ndf, wo) / wo.z.abs();
         let g = if reflect_lobe {
@@ -201,7 +208,11 @@ impl<N: Ndf> Bsdf for RoughDielectric<N> {
 
     fn pdf<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, _rng: &mut R) -> f64 {
         match self.half_vector(wi, wo) {
-            Some(hv) => self.pdf_half(&hv, projected_area(&self.ndf, wi)),
+            Some(hv) => self.pdf_half(
+                &hv,
+                projected_area(&self.ndf, wi),
+                fresnel_dielectric(hv.cos_ih, self.eta),
+            ),
             None => 0.0,
         }
     }
