@@ -11,17 +11,22 @@ use stfit_core::bsdf::{
     Bsdf, Lambertian, Masking, RoughConductor, RoughDielectric, SmoothConductor, SmoothDielectric,
     fresnel_conductor, fresnel_dielectric,
 };
-use stfit_core::ndf::{AnyNdf, Ggx};
+use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, Ndf, StudentT};
 use stfit_core::validate::bonferroni;
 
-/// NDFs whose exact visible-normal sampler is available. Beckmann and Student-T join this list
-/// when their samplers land (`Beckmann::new(alpha)`, `StudentT::new(alpha, 3.0)`).
+/// The NDFs the samplers are tested with: every height-field NDF, Student-T with a moderate
+/// and a very heavy tail (gamma 1.6 is below GGX's 2).
 fn sampled_ndfs(alpha: f64) -> Vec<AnyNdf> {
-    vec![Ggx::new(alpha).unwrap().into()]
+    vec![
+        Beckmann::new(alpha).unwrap().into(),
+        Ggx::new(alpha).unwrap().into(),
+        StudentT::new(alpha, 3.0).unwrap().into(),
+        StudentT::new(alpha, 1.6).unwrap().into(),
+    ]
 }
 
 /// Incident directions: polar angles in degrees, above 90 meaning from below.
-const WI_DEG: [f64; 6] = [0.0, 30.0, 75.0, 110.0, 150.0, 180.0];
+const WI_DEG: [f64; 5] = [0.0, 35.0, 80.0, 115.0, 180.0];
 
 /// Significance of each chi-square test; Bonferroni-corrected by the number of cases.
 const SIGNIFICANCE: f64 = 0.01;
@@ -64,9 +69,45 @@ fn pdf_of<B: Bsdf>(bsdf: &B, wi: Vec3) -> impl Fn(Vec3) -> f64 + Sync + '_ {
     move |wo| bsdf.pdf(wi, wo, &mut Pcg64::seed_from_u64(0))
 }
 
+/// Latitudes (`wo.z`) where a BSDF's `eval` and `pdf` may jump or be integrably singular,
+/// given to the quadratures as cell edges.
+trait Cuts {
+    fn cos_cuts(&self, wi: Vec3) -> Vec<f64>;
+}
+
+impl<N: Ndf> Cuts for RoughDielectric<N> {
+    /// The horizon, and the latitude where the facet a refraction needs reaches the horizon:
+    /// `n_i wi.z + n_o wo.z = 0`.
+    fn cos_cuts(&self, wi: Vec3) -> Vec<f64> {
+        let (n_i, n_o) = if wi.z > 0.0 {
+            (1.0, self.eta())
+        } else {
+            (self.eta(), 1.0)
+        };
+        let cut = -n_i / n_o * wi.z;
+        if cut.abs() < 1.0 {
+            vec![0.0, cut]
+        } else {
+            vec![0.0]
+        }
+    }
+}
+
+impl<N: Ndf> Cuts for RoughConductor<N> {
+    fn cos_cuts(&self, _wi: Vec3) -> Vec<f64> {
+        vec![0.0]
+    }
+}
+
+impl Cuts for Lambertian {
+    fn cos_cuts(&self, _wi: Vec3) -> Vec<f64> {
+        vec![0.0]
+    }
+}
+
 /// Runs the chi-square test of `bsdf.sample` against `bsdf.pdf` for every case and fails with
 /// the list of rejected cases.
-fn assert_sampler_matches_pdf<B: Bsdf + std::fmt::Debug>(cases: &[(B, Vec3)], n: usize) {
+fn assert_sampler_matches_pdf<B: Bsdf + Cuts + std::fmt::Debug>(cases: &[(B, Vec3)], n: usize) {
     let level = bonferroni(SIGNIFICANCE, cases.len());
     let mut failures = Vec::new();
     for (k, (bsdf, wi)) in cases.iter().enumerate() {
@@ -76,8 +117,8 @@ fn assert_sampler_matches_pdf<B: Bsdf + std::fmt::Debug>(cases: &[(B, Vec3)], n:
             || bsdf.sample(wi, &mut rng).map(|s| s.wo),
             pdf_of(bsdf, wi),
             n,
-            32,
-            64,
+            (32, 64),
+            &bsdf.cos_cuts(wi),
         );
         if !test.passes(level) {
             failures.push(format!("{bsdf:?}, wi {wi:?}: {test}"));
@@ -88,7 +129,7 @@ fn assert_sampler_matches_pdf<B: Bsdf + std::fmt::Debug>(cases: &[(B, Vec3)], n:
 
 #[test]
 fn rough_dielectric_sampling_matches_pdf() {
-    assert_sampler_matches_pdf(&rough_dielectric_cases(), 200_000);
+    assert_sampler_matches_pdf(&rough_dielectric_cases(), 100_000);
 }
 
 #[test]
@@ -124,8 +165,8 @@ fn chi_square_rejects_a_wrong_pdf() {
             || sampler.sample(wi, &mut rng).map(|s| s.wo),
             pdf_of(density, wi),
             200_000,
-            32,
-            64,
+            (32, 64),
+            &density.cos_cuts(wi),
         );
         assert!(test.p_value < 1e-6, "{k}: not rejected: {test}");
     }
@@ -143,10 +184,11 @@ fn assert_weight_is_eval_over_pdf<B: Bsdf + std::fmt::Debug>(cases: &[(B, Vec3)]
             assert!(!s.delta);
             let pdf = bsdf.pdf(wi, s.wo, &mut rng);
             let f = bsdf.eval(wi, s.wo, &mut rng);
-            let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()) + 1e-300;
-            assert!(close(s.pdf, pdf), "{bsdf:?} {wi:?} {s:?}: pdf {pdf}");
+            let close =
+                |a: f64, b: f64, rel: f64| (a - b).abs() <= rel * a.abs().max(b.abs()) + 1e-300;
+            assert!(close(s.pdf, pdf, 1e-12), "{bsdf:?} {wi:?} {s:?}: pdf {pdf}");
             assert!(
-                close(s.weight, f / pdf),
+                close(s.weight, f / pdf, 1e-9),
                 "{bsdf:?} {wi:?} {s:?}: eval/pdf {}",
                 f / pdf
             );
@@ -191,7 +233,7 @@ fn pdf_integrates_to_sampling_probability() {
         );
     };
     for (k, (bsdf, wi)) in rough_dielectric_cases().iter().enumerate() {
-        let integral = integrate_sphere(pdf_of(bsdf, *wi));
+        let integral = integrate_sphere(pdf_of(bsdf, *wi), &bsdf.cos_cuts(*wi));
         check(
             format!("{bsdf:?} {wi:?}"),
             integral,
@@ -199,7 +241,7 @@ fn pdf_integrates_to_sampling_probability() {
         );
     }
     for (k, (bsdf, wi)) in rough_conductor_cases().iter().enumerate() {
-        let integral = integrate_sphere(pdf_of(bsdf, *wi));
+        let integral = integrate_sphere(pdf_of(bsdf, *wi), &bsdf.cos_cuts(*wi));
         check(
             format!("{bsdf:?} {wi:?}"),
             integral,
@@ -207,7 +249,7 @@ fn pdf_integrates_to_sampling_probability() {
         );
     }
     let lambert = Lambertian::new(0.5).unwrap();
-    let integral = integrate_sphere(pdf_of(&lambert, dir_deg(40.0)));
+    let integral = integrate_sphere(pdf_of(&lambert, dir_deg(40.0)), &[0.0]);
     assert!(
         (integral - 1.0).abs() < 1e-4,
         "Lambertian pdf integral {integral}"
@@ -230,8 +272,8 @@ fn mean_weight<B: Bsdf>(bsdf: &B, wi: Vec3, n: usize) -> (f64, f64) {
 
 /// Directional albedo `integral eval dwo` is at most 1, and the quadrature agrees with the mean
 /// sample weight.
-fn assert_albedo_at_most_one<B: Bsdf + std::fmt::Debug>(bsdf: &B, wi: Vec3) {
-    let albedo = integrate_sphere(eval_of(bsdf, wi));
+fn assert_albedo_at_most_one<B: Bsdf + Cuts + std::fmt::Debug>(bsdf: &B, wi: Vec3) {
+    let albedo = integrate_sphere(eval_of(bsdf, wi), &bsdf.cos_cuts(wi));
     assert!(albedo <= 1.0 + 1e-3, "{bsdf:?} {wi:?}: albedo {albedo}");
     let (m, se) = mean_weight(bsdf, wi, 100_000);
     assert!(
@@ -260,7 +302,7 @@ fn directional_albedo_is_at_most_one() {
         }
     }
     let lambert = Lambertian::new(0.8).unwrap();
-    let albedo = integrate_sphere(eval_of(&lambert, dir_deg(60.0)));
+    let albedo = integrate_sphere(eval_of(&lambert, dir_deg(60.0)), &[0.0]);
     assert!((albedo - 0.8).abs() < 1e-4, "Lambertian albedo {albedo}");
 }
 

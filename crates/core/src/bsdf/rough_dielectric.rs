@@ -164,29 +164,22 @@ impl<N: Ndf> Bsdf for RoughDielectric<N> {
         let cos_ih = wi.dot(&h);
         let f = fresnel_dielectric(cos_ih, self.eta);
         let reflect_lobe = rng.random::<f64>() < f;
-        let n_i = self.index(wi.z);
-        let n_o = if reflect_lobe { n_i } else { self.index(-wi.z) };
         let wo = if reflect_lobe {
             reflect(wi, h)
         } else {
             // The facet normal on the side of wi.
             let facing = if cos_ih < 0.0 { -h } else { h };
-            refract(wi, facing, n_o / n_i)?
+            refract(wi, facing, self.index(-wi.z) / self.index(wi.z))?
         };
         if (wo.z * wi.z > 0.0) != reflect_lobe || wo.z == 0.0 {
             return None;
         }
-        // By construction wo lies on the same side of h as of the macro-surface.
-        let hv = HalfVector {
-            h,
-            cos_ih,
-            cos_oh: wo.dot(&h),
-            n_i,
-            n_o,
-            reflect: reflect_lobe,
-        };
+        // Recompute the half vector from (wi, wo), so that the returned pdf and weight are
+        // exactly those of pdf(wi, wo) and eval(wi, wo): rounding can move a facet sampled at
+        // h.z ~ 0, where D may diverge (Student-T, gamma < 2), to h.z <= 0.
+        let hv = self.half_vector(wi, wo)?;
         let sigma_i = projected_area(&self.ndf, wi);
-        let pdf = self.pdf_half(&hv, sigma_i, f);
+        let pdf = self.pdf_half(&hv, sigma_i, fresnel_dielectric(hv.cos_ih, self.eta));
         let a_i = sigma_i / wi.z.abs();
         let a_o = projected_area(&self.ndf, wo) / wo.z.abs();
         let g = if reflect_lobe {

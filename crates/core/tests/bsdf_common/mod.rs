@@ -16,36 +16,40 @@ pub fn dir_deg(theta_deg: f64) -> Vec3 {
 
 /// Pearson chi-square test of `n` draws of `sample` (each `None` when the draw fails) against
 /// the density `pdf` (solid angle), on `n_cos` x `n_phi` equal-mass bins around +z
-/// ([`SphereBins::equal_mass`]) plus one cell for failed draws, whose expected probability is
-/// `1 - integral pdf`. The density need not integrate to 1: its integral is the probability
-/// that a draw succeeds.
+/// ([`SphereBins::equal_mass`]) with extra strip edges at the latitudes `cos_cuts`, plus one
+/// cell for failed draws, whose expected probability is `1 - integral pdf`. The density need
+/// not integrate to 1: its integral is the probability that a draw succeeds.
 ///
-/// Cells are integrated by [`integrate_patch`], not `SphereBins::integrate`: the latter needs a
-/// density continuous inside each cell, and a rough dielectric's pdf is not (with GGX, the
-/// transmission pdf drops to zero where the facet it needs reaches the horizon, a curve across
-/// cells), which sends its adaptive quadrature to full depth for minutes.
+/// `cos_cuts` are latitudes where the density may be singular (integrably) or jump; cells are
+/// integrated by [`integrate_patch`], not `SphereBins::integrate`, which needs a density
+/// continuous inside each cell. A rough dielectric's transmission pdf jumps where the facet it
+/// needs reaches the horizon, the latitude `wo.z = -(n_i / n_o) wi.z`, and is singular there
+/// for Student-T with gamma < 2 (`D ~ (h.z)^(2 gamma - 4)`).
 pub fn chi_square_sampler(
     mut sample: impl FnMut() -> Option<Vec3>,
     pdf: impl Fn(Vec3) -> f64 + Sync,
     n: usize,
-    n_cos: usize,
-    n_phi: usize,
+    (n_cos, n_phi): (usize, usize),
+    cos_cuts: &[f64],
 ) -> ChiSquare {
-    let bins = SphereBins::equal_mass(Vec3::z(), n_cos, n_phi, &pdf);
+    let bins = with_cuts(
+        &SphereBins::equal_mass(Vec3::z(), n_cos, n_phi, &pdf),
+        cos_cuts,
+    );
     let draws: Vec<Option<Vec3>> = (0..n).map(|_| sample()).collect();
     let failed = draws.iter().filter(|d| d.is_none()).count();
     let (mut observed, non_finite) = bins.histogram(draws.into_iter().flatten());
-    let frame = *bins.frame();
-    let local_pdf = |l: Vec3| pdf(frame.to_world(l));
     let mut expected: Vec<f64> = (0..bins.len())
         .map(|i| {
             let (c, p) = bins.cell_bounds(i);
-            n as f64 * integrate_patch(&local_pdf, c, p, TOL, DEPTH)
+            n as f64 * integrate_patch(&pdf, c, p, cos_cuts)
         })
         .collect();
     let total: f64 = expected.iter().sum();
     observed.push(failed as f64);
-    expected.push((n as f64 - total).max(0.0));
+    // Kept positive: a quadrature total a hair above 1 must not turn a few failed draws
+    // into "samples where the density is zero"; the cell is then pooled as a small one.
+    expected.push((n as f64 - total).max(1e-3));
     let mut test = validate::pearson(&observed, &expected);
     test.non_finite = non_finite;
     if non_finite > 0 {
@@ -54,116 +58,163 @@ pub fn chi_square_sampler(
     test
 }
 
+/// `bins` (around +z) with each strip crossed by a latitude in `cos_cuts` split there, keeping
+/// its phi edges.
+fn with_cuts(bins: &SphereBins, cos_cuts: &[f64]) -> SphereBins {
+    let mut strips: Vec<((f64, f64), Vec<f64>)> = Vec::new();
+    for i in 0..bins.len() {
+        let (c, p) = bins.cell_bounds(i);
+        match strips.last_mut() {
+            Some((last, edges)) if *last == c => edges.push(p.1),
+            _ => strips.push((c, vec![p.0, p.1])),
+        }
+    }
+    let mut cos_edges = vec![-1.0];
+    let mut phi_edges = Vec::new();
+    for ((c0, c1), edges) in strips {
+        for &cut in cos_cuts {
+            if c0 < cut && cut < c1 {
+                cos_edges.push(cut);
+                phi_edges.push(edges.clone());
+            }
+        }
+        cos_edges.push(c1);
+        phi_edges.push(edges);
+    }
+    let mut order: Vec<usize> = (0..phi_edges.len()).collect();
+    order.sort_by(|&a, &b| cos_edges[a + 1].total_cmp(&cos_edges[b + 1]));
+    let phi_edges = order.iter().map(|&k| phi_edges[k].clone()).collect();
+    cos_edges.sort_by(f64::total_cmp);
+    SphereBins::from_edges(Vec3::z(), cos_edges, phi_edges)
+}
+
 /// The unit direction with `cos theta = c` and azimuth `phi`.
 pub fn dir_cos_phi(c: f64, phi: f64) -> Vec3 {
     let s = (1.0 - c * c).max(0.0).sqrt();
     Vec3::new(s * phi.cos(), s * phi.sin(), c)
 }
 
-/// Integral of `f(w)` over the patch `c0 <= cos theta <= c1`, `p0 <= phi <= p1` (area
-/// element `dc dphi`). The patch is first cut into sub-cells at most [`MAX_CELL`] wide in
-/// `cos theta` and `phi`; each sub-cell's 3x3 Simpson estimate is compared with the sum over
-/// its four quadrants, and quadrants are refined until the two agree to `tol` per unit area or
-/// `depth` levels are spent. Simpson's nodes include the cell's edges, so a region where the
+/// Integral of `f(w)` over the patch `c0 <= cos theta <= c1`, `p0 <= phi <= p1` (area element
+/// `dc dphi`). The patch is first cut into sub-cells at most [`MAX_CELL`] wide in `cos theta`
+/// and `phi`; each sub-cell's 3x3 Simpson estimate is compared with the sum over its four
+/// quadrants, and quadrants are refined until the two agree to [`TOL`] per unit area or
+/// [`DEPTH`] levels are spent. Simpson's nodes include the cell's edges, so a region where the
 /// density is non-zero is noticed whenever it touches an edge, however thin its sliver inside
-/// the cell: cliffs in the pdfs (with GGX at large roughness the transmission pdf jumps from
-/// zero to its peak where the facet it needs reaches the horizon) defeat open rules and fixed
-/// grids.
+/// the cell: cliffs in the pdfs defeat open rules and fixed grids. A row of sub-cells along an
+/// edge listed in `cos_cuts` (a latitude where `f` may have an integrable singularity
+/// `|c - cut|^p`, `p > -1`) is integrated in `t` with `c = cut +- L t^8`, which makes the
+/// integrand bounded for `p >= -7/8`.
 pub fn integrate_patch(
     f: &impl Fn(Vec3) -> f64,
     (c0, c1): (f64, f64),
     (p0, p1): (f64, f64),
-    tol: f64,
-    depth: u32,
+    cos_cuts: &[f64],
 ) -> f64 {
     let nc = ((c1 - c0) / MAX_CELL).ceil().max(1.0) as usize;
     let np = ((p1 - p0) / MAX_CELL).ceil().max(1.0) as usize;
     let (dc, dp) = ((c1 - c0) / nc as f64, (p1 - p0) / np as f64);
+    let edge = |k: usize, n: usize, lo: f64, hi: f64, d: f64| {
+        if k == n { hi } else { lo + k as f64 * d }
+    };
     let mut sum = 0.0;
     for i in 0..nc {
-        let c = (
-            c0 + i as f64 * dc,
-            if i + 1 == nc {
-                c1
-            } else {
-                c0 + (i + 1) as f64 * dc
-            },
-        );
+        let (a, b) = (edge(i, nc, c0, c1, dc), edge(i + 1, nc, c0, c1, dc));
+        let (sing_a, sing_b) = (cos_cuts.contains(&a), cos_cuts.contains(&b));
         for j in 0..np {
-            let p = (
-                p0 + j as f64 * dp,
-                if j + 1 == np {
-                    p1
-                } else {
-                    p0 + (j + 1) as f64 * dp
-                },
-            );
-            let coarse = simpson_3x3(f, c, p);
-            sum += refine(f, c, p, coarse, tol, depth);
+            let p = (edge(j, np, p0, p1, dp), edge(j + 1, np, p0, p1, dp));
+            sum += match (sing_a, sing_b) {
+                (false, false) => adaptive(&|c, phi| f(dir_cos_phi(c, phi)), (a, b), p),
+                (true, false) => clustered(f, a, b - a, p),
+                (false, true) => clustered(f, b, a - b, p),
+                (true, true) => {
+                    let m = 0.5 * (a + b);
+                    clustered(f, a, m - a, p) + clustered(f, b, m - b, p)
+                }
+            };
         }
     }
     sum
+}
+
+/// Integral over the row between the latitude `cut` and `cut + len` (`len` of either sign),
+/// with `c = cut + len t^8`.
+fn clustered(f: &impl Fn(Vec3) -> f64, cut: f64, len: f64, p: (f64, f64)) -> f64 {
+    let g = |t: f64, phi: f64| {
+        let t7 = t.powi(7);
+        8.0 * len.abs() * t7 * f(dir_cos_phi(cut + len * t7 * t, phi))
+    };
+    adaptive(&g, (0.0, 1.0), p)
 }
 
 /// Largest sub-cell, in `cos theta` and in `phi`, of [`integrate_patch`].
 const MAX_CELL: f64 = 0.05;
 
-fn simpson_3x3(f: &impl Fn(Vec3) -> f64, (c0, c1): (f64, f64), (p0, p1): (f64, f64)) -> f64 {
+/// Refinement tolerance (per unit area) and depth of the quadratures.
+const TOL: f64 = 1e-4;
+const DEPTH: u32 = 6;
+
+/// Adaptive 2D Simpson of `g(u, v)` over a rectangle.
+fn adaptive(g: &impl Fn(f64, f64) -> f64, u: (f64, f64), v: (f64, f64)) -> f64 {
+    let coarse = simpson_3x3(g, u, v);
+    refine(g, u, v, coarse, DEPTH)
+}
+
+fn simpson_3x3(g: &impl Fn(f64, f64) -> f64, (u0, u1): (f64, f64), (v0, v1): (f64, f64)) -> f64 {
     const X: [f64; 3] = [0.0, 0.5, 1.0];
     const W: [f64; 3] = [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0];
-    let (dc, dp) = (c1 - c0, p1 - p0);
+    let (du, dv) = (u1 - u0, v1 - v0);
     let mut sum = 0.0;
     for (xa, wa) in X.iter().zip(W) {
         for (xb, wb) in X.iter().zip(W) {
-            sum += wa * wb * f(dir_cos_phi(c0 + xa * dc, p0 + xb * dp));
+            sum += wa * wb * g(u0 + xa * du, v0 + xb * dv);
         }
     }
-    sum * dc * dp
+    sum * du * dv
 }
 
 fn refine(
-    f: &impl Fn(Vec3) -> f64,
-    (c0, c1): (f64, f64),
-    (p0, p1): (f64, f64),
+    g: &impl Fn(f64, f64) -> f64,
+    (u0, u1): (f64, f64),
+    (v0, v1): (f64, f64),
     coarse: f64,
-    tol: f64,
     depth: u32,
 ) -> f64 {
-    let (cm, pm) = (0.5 * (c0 + c1), 0.5 * (p0 + p1));
+    let (um, vm) = (0.5 * (u0 + u1), 0.5 * (v0 + v1));
     let quads = [
-        ((c0, cm), (p0, pm)),
-        ((c0, cm), (pm, p1)),
-        ((cm, c1), (p0, pm)),
-        ((cm, c1), (pm, p1)),
+        ((u0, um), (v0, vm)),
+        ((u0, um), (vm, v1)),
+        ((um, u1), (v0, vm)),
+        ((um, u1), (vm, v1)),
     ];
-    let parts = quads.map(|(c, p)| simpson_3x3(f, c, p));
+    let parts = quads.map(|(u, v)| simpson_3x3(g, u, v));
     let fine: f64 = parts.iter().sum();
-    if depth == 0 || (fine - coarse).abs() <= tol * (c1 - c0) * (p1 - p0) {
+    if depth == 0 || (fine - coarse).abs() <= TOL * (u1 - u0) * (v1 - v0) {
         return fine;
     }
     quads
         .iter()
         .zip(parts)
-        .map(|(&(c, p), part)| refine(f, c, p, part, tol, depth - 1))
+        .map(|(&(u, v), part)| refine(g, u, v, part, depth - 1))
         .sum()
 }
 
-/// Integral of `f(w)` over the whole sphere (steps inside cells allowed): a 32 x 64 grid in `(cos theta, phi)`, each cell
-/// integrated by [`integrate_patch`].
-pub fn integrate_sphere(f: impl Fn(Vec3) -> f64) -> f64 {
+/// Integral of `f(w)` over the whole sphere: 32 strips in `cos theta`, also split at the
+/// latitudes `cos_cuts`, by 64 in phi, each cell integrated by [`integrate_patch`].
+pub fn integrate_sphere(f: impl Fn(Vec3) -> f64, cos_cuts: &[f64]) -> f64 {
     let (n_cos, n_phi) = (32, 64);
-    let (dc, dp) = (2.0 / n_cos as f64, 2.0 * PI / n_phi as f64);
+    let mut edges: Vec<f64> = (0..=n_cos)
+        .map(|i| -1.0 + 2.0 * i as f64 / n_cos as f64)
+        .chain(cos_cuts.iter().copied())
+        .collect();
+    edges.sort_by(f64::total_cmp);
+    edges.dedup();
+    let dp = 2.0 * PI / n_phi as f64;
     let mut sum = 0.0;
-    for i in 0..n_cos {
+    for c in edges.windows(2) {
         for j in 0..n_phi {
-            let c = -1.0 + i as f64 * dc;
-            let p = j as f64 * dp;
-            sum += integrate_patch(&f, (c, c + dc), (p, p + dp), TOL, DEPTH);
+            let p = (j as f64 * dp, (j + 1) as f64 * dp);
+            sum += integrate_patch(&f, (c[0], c[1]), p, cos_cuts);
         }
     }
     sum
 }
-
-/// Refinement tolerance (per unit area) and depth of the quadratures.
-const TOL: f64 = 1e-4;
-const DEPTH: u32 = 6;
