@@ -52,7 +52,7 @@ fn d_is_normalised_by_projected_area() {
     for &alpha in &ALPHAS {
         for ndf in ndfs(alpha) {
             let i = integrate_sphere(Vec3::z(), |wm| ndf.d(wm) * wm.z.max(0.0), &[]);
-            assert!((i - 1.0).abs() < 1e-8, "{ndf:?}: integral {i}");
+            assert!((i - 1.0).abs() < 1e-10, "{ndf:?}: integral {i}");
             worst = worst.max((i - 1.0).abs());
         }
     }
@@ -130,7 +130,7 @@ fn lambda_equals_integral_of_slope_distribution() {
                 let l = ndf.lambda(w);
                 let e = rel(l, q);
                 worst = worst.max(e);
-                assert!(e < 1e-6, "{ndf:?} mu {mu}: Lambda {l} vs integral {q}");
+                assert!(e < 1e-10, "{ndf:?} mu {mu}: Lambda {l} vs integral {q}");
             }
         }
     }
