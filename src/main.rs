@@ -31,6 +31,9 @@ struct Cli {
 enum Command {
     /// Write synthetic measurements of a known model in the data format.
     Synth(cmd::synth::SynthArgs),
+    /// Evaluate the single-scattering rough dielectric BSDF (f * |wo.z|) for directions read
+    /// as CSV on stdin.
+    Eval(cmd::eval::Args),
 }
 
 fn main() -> ExitCode {
@@ -38,6 +41,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         None => cmd::fit::run(cli.fit),
         Some(Command::Synth(args)) => cmd::synth::run(args),
+        Some(Command::Eval(args)) => cmd::eval::run(&args).map_err(cmd::CmdError::Failed),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

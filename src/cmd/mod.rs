@@ -9,6 +9,7 @@ use clap::ValueEnum;
 use stfit_core::bsdf::Masking;
 use stfit_fit::LoadError;
 
+pub mod eval;
 pub mod fit;
 pub mod synth;
 
