@@ -1,9 +1,9 @@
 //! `stfit albedo`: fractions of the incident flux that a rough dielectric reflects and transmits,
 //! by the height-field random walk.
 
+use super::{CmdError, CmdResult, print_stdout};
 use clap::ValueEnum;
 use indicatif::{ProgressBar, ProgressStyle};
-use std::error::Error;
 use std::io::IsTerminal;
 use stfit_core::Vec3;
 use stfit_core::math::radians;
@@ -88,27 +88,40 @@ pub struct Args {
     pub json: bool,
 }
 
-/// Runs `stfit albedo`.
-pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
+/// Runs `stfit albedo`. Invalid arguments are usage errors (exit status 2).
+pub fn run(args: &Args) -> CmdResult {
+    let usage = |m: String| CmdError::Usage(m);
     let theta = args.theta_i;
     if !theta.is_finite() || !(0.0..=180.0).contains(&theta) || theta == 90.0 {
-        return Err(format!("--theta-i must be in [0, 180] and not 90, got {theta}").into());
+        return Err(usage(format!(
+            "--theta-i must be in [0, 180] and not 90, got {theta}"
+        )));
     }
     if args.samples == 0 {
-        return Err("--samples must be at least 1".into());
+        return Err(usage("--samples must be at least 1".into()));
     }
+    let param = |e: stfit_core::ParamError| usage(e.to_string());
     let t = radians(theta);
     let wi = Vec3::new(-t.sin(), 0.0, t.cos());
-    let facet = DielectricFacet::new(args.eta)?;
+    let facet = DielectricFacet::new(args.eta).map_err(param)?;
     let result = match (args.ndf, args.gamma) {
-        (NdfKind::Beckmann, None) => estimate(Beckmann::new(args.alpha)?, facet, wi, args)?,
-        (NdfKind::Ggx, None) => estimate(Ggx::new(args.alpha)?, facet, wi, args)?,
-        (NdfKind::StudentT, Some(g)) => estimate(StudentT::new(args.alpha, g)?, facet, wi, args)?,
-        (NdfKind::StudentT, None) => return Err("--gamma is required for student-t".into()),
-        (_, Some(_)) => return Err("--gamma applies only to student-t".into()),
-    };
-    print(args, &result);
-    Ok(())
+        (NdfKind::Beckmann, None) => {
+            estimate(Beckmann::new(args.alpha).map_err(param)?, facet, wi, args)
+        }
+        (NdfKind::Ggx, None) => estimate(Ggx::new(args.alpha).map_err(param)?, facet, wi, args),
+        (NdfKind::StudentT, Some(g)) => estimate(
+            StudentT::new(args.alpha, g).map_err(param)?,
+            facet,
+            wi,
+            args,
+        ),
+        (NdfKind::StudentT, None) => {
+            return Err(usage("--gamma is required for student-t".into()));
+        }
+        (_, Some(_)) => return Err(usage("--gamma applies only to student-t".into())),
+    }
+    .map_err(param)?;
+    print_stdout(&format_result(args, &result))
 }
 
 /// Runs the walks, with a progress bar when both output streams are terminals.
@@ -117,7 +130,7 @@ fn estimate<N: Ndf + SphereNdf>(
     facet: DielectricFacet,
     wi: Vec3,
     args: &Args,
-) -> Result<AlbedoEstimate, Box<dyn Error>> {
+) -> Result<AlbedoEstimate, stfit_core::ParamError> {
     let orders = ScatteringOrders::from(args.scattering);
     let show = !args.json
         && std::io::stdout().is_terminal()
@@ -150,7 +163,8 @@ fn estimate<N: Ndf + SphereNdf>(
     Ok(result)
 }
 
-fn print(args: &Args, a: &AlbedoEstimate) {
+/// The report: one JSON object with `--json`, else a few aligned lines.
+fn format_result(args: &Args, a: &AlbedoEstimate) -> String {
     if args.json {
         let v = serde_json::json!({
             "reflectance": a.reflectance,
@@ -162,23 +176,22 @@ fn print(args: &Args, a: &AlbedoEstimate) {
             "samples": a.walks,
             "seed": args.seed,
         });
-        println!("{v}");
-    } else {
-        println!(
-            "reflectance    {:.6} +- {:.6}",
-            a.reflectance, a.reflectance_stderr
-        );
-        println!(
-            "transmittance  {:.6} +- {:.6}",
-            a.transmittance, a.transmittance_stderr
-        );
-        println!("mean bounces   {:.4}", a.mean_bounces);
-        println!("walks          {}", a.walks);
-        if a.truncated > 0.0 {
-            println!(
-                "truncated      {:.3e} of the flux (walks past the safety cap)",
-                a.truncated
-            );
-        }
+        return format!("{v}\n");
     }
+    let mut text = format!(
+        "reflectance    {:.6} +- {:.6}\ntransmittance  {:.6} +- {:.6}\nmean bounces   {:.4}\nwalks          {}\n",
+        a.reflectance,
+        a.reflectance_stderr,
+        a.transmittance,
+        a.transmittance_stderr,
+        a.mean_bounces,
+        a.walks
+    );
+    if a.truncated > 0.0 {
+        text += &format!(
+            "truncated      {:.3e} of the flux (walks past the safety cap)\n",
+            a.truncated
+        );
+    }
+    text
 }

@@ -123,10 +123,21 @@ fn samplers_are_robust_at_extremes() {
         StudentT::new(50.0, 3.0).unwrap().into(),
         StudentT::new(0.3, 1e4).unwrap().into(),
     ];
-    let mut dirs: Vec<Vec3> = [0.0, 1e-9, 0.5, 1.5707, 1.5708, 1.6, 2.5, 3.1415]
-        .iter()
-        .map(|&t| spherical_direction(t, 2.0))
-        .collect();
+    // Just above and just below the horizon, and just short of straight down.
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let mut dirs: Vec<Vec3> = [
+        0.0,
+        1e-9,
+        0.5,
+        FRAC_PI_2 - 1e-4,
+        FRAC_PI_2 + 1e-4,
+        1.6,
+        2.5,
+        PI - 1e-4,
+    ]
+    .iter()
+    .map(|&t| spherical_direction(t, 2.0))
+    .collect();
     dirs.push(Vec3::new(1.0, 0.0, 0.0));
     let mut rng = Pcg64::seed_from_u64(99);
     for ndf in &ndfs {
