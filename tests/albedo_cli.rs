@@ -215,3 +215,60 @@ fn bad_arguments_are_errors() {
         assert!(out.stdout.is_empty(), "{args:?}");
     }
 }
+
+/// Runs `stfit eval` with `args` on CSV `input`; returns the appended columns of each row.
+fn eval_rows(args: &[&str], input: &str) -> Vec<Vec<f64>> {
+    use std::io::Write;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_stfit"))
+        .arg("eval")
+        .args(args)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the stfit binary runs");
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(header[6], "f_cos");
+    lines
+        .map(|l| l.split(',').skip(6).map(|x| x.parse().unwrap()).collect())
+        .collect()
+}
+
+#[test]
+fn eval_scattering_orders_add_up() {
+    // Light from air at 40 degrees; transmitted and reflected directions.
+    let input = "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n\
+        -0.6427876096865393,0,0.766044443118978,0.3,0,-0.9539392014169457\n\
+        -0.6427876096865393,0,0.766044443118978,0.5,0.2,0.8426149773176359\n";
+    let base = ["--ndf", "ggx", "--alpha", "0.7", "--eta", "1.51"];
+    let run = |extra: &[&str]| {
+        let mut a = base.to_vec();
+        a.extend_from_slice(extra);
+        eval_rows(&a, input)
+    };
+    let single = run(&["--masking", "correlated"]);
+    let multi = run(&["--scattering", "multiple", "--samples", "40000"]);
+    let all = run(&["--scattering", "all", "--samples", "40000", "--seed", "9"]);
+    for k in 0..2 {
+        assert_eq!(single[k].len(), 1);
+        assert_eq!(all[k].len(), 2, "f_cos and f_cos_stderr");
+        let se = (multi[k][1].powi(2) + all[k][1].powi(2)).sqrt();
+        let diff = all[k][0] - single[k][0] - multi[k][0];
+        assert!(diff.abs() <= 4.0 * se, "row {k}: {diff} (se {se})");
+        assert!(multi[k][0] > 0.0);
+    }
+}

@@ -5,7 +5,9 @@
 //! columns are passed through), then one row per direction pair, unit vectors in the local
 //! frame (z > 0 outside, index 1; z < 0 inside, index eta). Output on stdout: the same rows
 //! with a column `f_cos = f(wi, wo) |wo.z|` appended: reflection or transmission by the sides
-//! of `wi` and `wo`, no radiance `1/eta^2` scaling.
+//! of `wi` and `wo`, no radiance `1/eta^2` scaling. With `--scattering multiple|all` the value
+//! is a random-walk estimate (rows sharing a `wi` share one set of walks) and a column
+//! `f_cos_stderr` follows.
 
 use std::io::{BufWriter, Read, Write};
 
@@ -13,9 +15,13 @@ use clap::ValueEnum;
 use stfit_core::Vec3;
 use stfit_core::bsdf::{Masking, RoughDielectric};
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, StudentT};
+use stfit_core::walk::{DielectricFacet, Microsurface};
 
 /// The direction columns the input must have, in the order `(wi, wo)`.
 const COLUMNS: [&str; 6] = ["wi_x", "wi_y", "wi_z", "wo_x", "wo_y", "wo_z"];
+
+/// The standard-error column appended by the random walk.
+const STDERR_COLUMN: &str = "f_cos_stderr";
 
 /// The appended output column.
 const OUTPUT_COLUMN: &str = "f_cos";
@@ -66,9 +72,20 @@ pub struct Args {
     /// Relative index of refraction n_inside / n_outside (> 0, != 1).
     #[arg(long, allow_negative_numbers = true)]
     pub eta: f64,
-    /// Masking-shadowing model.
+    /// Masking-shadowing model (single scattering only; the random walk's masking is height
+    /// correlated by construction).
     #[arg(long, value_enum, default_value_t)]
     pub masking: MaskingName,
+    /// Scattering orders: `single` is the analytic BSDF above; `multiple` (order >= 2) and
+    /// `all` are estimated by the height-field random walk, with a column `f_cos_stderr`.
+    #[arg(long, value_enum, default_value_t = super::albedo::Scattering::Single)]
+    pub scattering: super::albedo::Scattering,
+    /// Random walks per distinct `wi` (multiple and all).
+    #[arg(long, default_value_t = 100_000)]
+    pub samples: u64,
+    /// Seed of the random walks (multiple and all).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
 }
 
 impl Args {
@@ -107,9 +124,116 @@ impl Args {
 
 /// Runs `stfit eval`: CSV from stdin to stdout.
 pub fn run(args: &Args) -> Result<(), String> {
-    let bsdf = args.bsdf()?;
     let stdout = std::io::stdout().lock();
-    eval_csv(&bsdf, std::io::stdin().lock(), BufWriter::new(stdout))
+    if args.scattering == super::albedo::Scattering::Single {
+        let bsdf = args.bsdf()?;
+        return eval_csv(&bsdf, std::io::stdin().lock(), BufWriter::new(stdout));
+    }
+    if args.samples == 0 {
+        return Err("--samples must be at least 1".into());
+    }
+    let facet = DielectricFacet::new(args.eta).map_err(|e| format!("invalid --eta: {e}"))?;
+    let walk = Microsurface::new(args.ndf()?, facet).with_orders(args.scattering.into());
+    let input = std::io::stdin().lock();
+    eval_walk_csv(
+        &walk,
+        args.samples,
+        args.seed,
+        input,
+        BufWriter::new(stdout),
+    )
+}
+
+/// As [`eval_csv`] for the random walk: reads every row, estimates `f_cos` for all rows that
+/// share a `wi` from one set of `samples` walks (seeded by `seed` and the first line of the
+/// group), and appends `f_cos` and `f_cos_stderr`.
+pub fn eval_walk_csv<R: Read, W: Write>(
+    walk: &Microsurface<AnyNdf, DielectricFacet>,
+    samples: u64,
+    seed: u64,
+    input: R,
+    mut output: W,
+) -> Result<(), String> {
+    let mut reader = csv::ReaderBuilder::new()
+        .flexible(true)
+        .trim(csv::Trim::All)
+        .from_reader(input);
+    let header = reader
+        .headers()
+        .map_err(|e| format!("reading the header: {e}"))?
+        .clone();
+    if header.iter().any(|h| h == STDERR_COLUMN) {
+        return Err(format!("the input already has a column {STDERR_COLUMN}"));
+    }
+    let index = column_indices(&header)?;
+    let mut rows = Vec::new();
+    let mut record = csv::StringRecord::new();
+    loop {
+        match reader.read_record(&mut record) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(e) => return Err(read_error(&e)),
+        }
+        let (wi, wo) = parse_pair(&record, &header, &index)?;
+        rows.push((record.clone(), wi, wo));
+    }
+    // Rows grouped by wi (exact components), in order of first appearance.
+    let mut groups: Vec<(Vec3, Vec<usize>)> = Vec::new();
+    for (k, (_, wi, _)) in rows.iter().enumerate() {
+        match groups.iter_mut().find(|(w, _)| w == wi) {
+            Some((_, members)) => members.push(k),
+            None => groups.push((*wi, vec![k])),
+        }
+    }
+    let mut values = vec![(0.0, 0.0); rows.len()];
+    for (g, (wi, members)) in groups.iter().enumerate() {
+        let wos: Vec<Vec3> = members.iter().map(|&k| rows[k].2).collect();
+        let est = walk.eval_many(*wi, &wos, samples, seed.wrapping_add(g as u64));
+        for (&k, e) in members.iter().zip(est) {
+            values[k] = (e.mean, e.stderr);
+        }
+    }
+    let mut writer = csv::Writer::from_writer(Vec::new());
+    let write_err = |e: csv::Error| format!("writing output: {e}");
+    writer
+        .write_record(header.iter().chain([OUTPUT_COLUMN, STDERR_COLUMN]))
+        .map_err(write_err)?;
+    for ((record, _, _), (f, se)) in rows.iter().zip(values) {
+        let (f, se) = (format_number(f), format_number(se));
+        writer
+            .write_record(record.iter().chain([f.as_str(), se.as_str()]))
+            .map_err(write_err)?;
+    }
+    let table = writer
+        .into_inner()
+        .map_err(|e| format!("writing output: {}", e.error()))?;
+    output
+        .write_all(&table)
+        .and_then(|()| output.flush())
+        .map_err(|e| format!("writing output: {e}"))
+}
+
+/// The directions of one data row, checked to be unit vectors.
+fn parse_pair(
+    record: &csv::StringRecord,
+    header: &csv::StringRecord,
+    index: &[usize; 6],
+) -> Result<(Vec3, Vec3), String> {
+    let line = record.position().map_or(0, csv::Position::line);
+    if record.len() != header.len() {
+        return Err(format!(
+            "line {line}: expected {} fields, found {}",
+            header.len(),
+            record.len()
+        ));
+    }
+    let mut v = [0.0; 6];
+    for (k, (&i, name)) in index.iter().zip(COLUMNS).enumerate() {
+        v[k] = parse_field(&record[i], line, name)?;
+    }
+    let wi = unit_vector(Vec3::new(v[0], v[1], v[2]), line, "wi")?;
+    let wo = unit_vector(Vec3::new(v[3], v[4], v[5]), line, "wo")?;
+    Ok((wi, wo))
 }
 
 /// Reads direction pairs as CSV from `input` and writes them with `f_cos` appended to
@@ -141,20 +265,7 @@ pub fn eval_csv<R: Read, W: Write>(
             Ok(false) => break,
             Err(e) => return Err(read_error(&e)),
         }
-        let line = record.position().map_or(0, csv::Position::line);
-        if record.len() != header.len() {
-            return Err(format!(
-                "line {line}: expected {} fields, found {}",
-                header.len(),
-                record.len()
-            ));
-        }
-        let mut v = [0.0; 6];
-        for (k, (&i, name)) in index.iter().zip(COLUMNS).enumerate() {
-            v[k] = parse_field(&record[i], line, name)?;
-        }
-        let wi = unit_vector(Vec3::new(v[0], v[1], v[2]), line, "wi")?;
-        let wo = unit_vector(Vec3::new(v[3], v[4], v[5]), line, "wo")?;
+        let (wi, wo) = parse_pair(&record, &header, &index)?;
         let f = format_number(bsdf.f_cos(wi, wo));
         writer
             .write_record(record.iter().chain([f.as_str()]))
