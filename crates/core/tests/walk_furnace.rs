@@ -331,3 +331,43 @@ fn flux_dropped_at_the_safety_cap_is_counted() {
     let se = (t * (1.0 - t) / 20_000.0 + dropped * (1.0 - dropped) / 20_000.0).sqrt();
     assert!((t - dropped).abs() <= 4.0 * se, "{capped:?} {multiple:?}");
 }
+
+#[test]
+fn fresnel_conductor_first_order_and_energy() {
+    use stfit_core::bsdf::{Masking, RoughConductor};
+    use stfit_core::walk::ScatteringOrders;
+    let (n, k) = (0.2, 3.6);
+    assert!(ConductorFacet::fresnel(-1.0, 1.0).is_err());
+    assert!(ConductorFacet::fresnel(1.0, f64::NAN).is_err());
+    let ndf = Ggx::new(0.5).unwrap();
+    let facet = ConductorFacet::fresnel(n, k).unwrap();
+    let single = Microsurface::new(ndf, facet).with_orders(ScatteringOrders::Single);
+    let analytic = RoughConductor::new(ndf, n, k, Masking::Correlated).unwrap();
+    let mut rng = Pcg64::seed_from_u64(1);
+    let wi = spherical_direction(0.9, 0.0);
+    let wos: Vec<Vec3> = [(0.2, 2.0), (0.9, 3.1), (1.3, 0.5), (0.6, 4.0)]
+        .iter()
+        .map(|&(t, p)| spherical_direction(t, p))
+        .collect();
+    for (wo, e) in wos.iter().zip(single.eval_many(wi, &wos, 20_000, 2)) {
+        let want = analytic.eval(wi, *wo, &mut rng);
+        assert!(want > 0.0);
+        assert!(
+            (e.mean - want).abs() <= 4.0 * e.stderr + 1e-12,
+            "wo {wo:?}: walk {} +- {}, analytic {want}",
+            e.mean,
+            e.stderr
+        );
+    }
+    // All orders: the sampled albedo equals the integral of eval, and is below 1.
+    let ms = Microsurface::new(ndf, facet);
+    let a = ms.albedo(wi, 40_000, 3);
+    let p = |wo: Vec3| wo.z.max(0.0) / PI;
+    let (ev, se) = eval_integral(&ms, wi, cosine_upper, p, 0.2, 40_000);
+    let tol = 4.0 * (se * se + a.reflectance_stderr.powi(2)).sqrt();
+    assert!(
+        (ev - a.reflectance).abs() <= tol,
+        "eval {ev} +- {se}, albedo {a:?}"
+    );
+    assert!(a.reflectance < 0.99 && a.reflectance > 0.8, "{a:?}");
+}

@@ -5,10 +5,11 @@
 //! arrive at a facet from either side. Directions are in the macro-surface frame.
 
 use super::Microsurface;
-use crate::bsdf::{Bsdf, fresnel_dielectric};
+use crate::bsdf::{Bsdf, fresnel_conductor, fresnel_dielectric};
 use crate::error::{ParamError, check_eta, finite};
 use crate::math::{Frame, Vec3, safe_sqrt};
 use crate::ndf::Ndf;
+use nalgebra::Complex;
 use rand::{Rng, RngExt};
 use std::f64::consts::{FRAC_1_PI, PI};
 
@@ -241,28 +242,55 @@ impl Facet for DielectricFacet {
     }
 }
 
-/// A smooth two-sided mirror facet of constant reflectance (1 for a perfect mirror). Opaque: the
-/// walker never crosses the interface.
+/// A smooth two-sided mirror facet: a perfect mirror, a constant reflectance, or a Fresnel
+/// conductor of complex index `n + i k` ([`fresnel_conductor`]). Opaque: the walker never
+/// crosses the interface.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConductorFacet {
-    reflectance: f64,
+    reflectance: Reflectance,
+}
+
+/// How a [`ConductorFacet`] reflects.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Reflectance {
+    Constant(f64),
+    Fresnel(Complex<f64>),
 }
 
 impl ConductorFacet {
     /// A perfect mirror (reflectance 1).
     pub fn mirror() -> Self {
-        Self { reflectance: 1.0 }
+        Self {
+            reflectance: Reflectance::Constant(1.0),
+        }
     }
 
     /// A mirror of constant reflectance in `[0, 1]`.
     pub fn with_reflectance(reflectance: f64) -> Result<Self, ParamError> {
         let reflectance = check_unit("reflectance", reflectance)?;
-        Ok(Self { reflectance })
+        Ok(Self {
+            reflectance: Reflectance::Constant(reflectance),
+        })
     }
 
-    /// The reflectance.
-    pub fn reflectance(&self) -> f64 {
-        self.reflectance
+    /// A smooth conductor with the exact unpolarised Fresnel reflectance of the complex index
+    /// `n + i k` (finite, `n > 0`, `k >= 0`).
+    pub fn fresnel(n: f64, k: f64) -> Result<Self, ParamError> {
+        Ok(Self {
+            reflectance: Reflectance::Fresnel(Complex::new(
+                check_positive("n", n)?,
+                check_non_negative("k", k)?,
+            )),
+        })
+    }
+
+    /// The reflectance at incidence cosine `cos_i` (either side).
+    #[inline]
+    pub fn reflectance(&self, cos_i: f64) -> f64 {
+        match self.reflectance {
+            Reflectance::Constant(r) => r,
+            Reflectance::Fresnel(eta) => fresnel_conductor(cos_i, eta),
+        }
     }
 }
 
@@ -270,13 +298,18 @@ impl Facet for ConductorFacet {
     fn scatter<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, _rng: &mut R) -> Option<FacetSample> {
         Some(FacetSample {
             wo: reflect(wi, m),
-            weight: self.reflectance,
+            weight: self.reflectance(wi.dot(&m)),
         })
     }
 
-    /// `R D_vis(h) / (4 |wi.h|)` with `h` the reflection half vector.
+    /// `R(wi.h) D_vis(h) / (4 |wi.h|)` with `h` the reflection half vector.
     fn phase<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64 {
-        self.reflectance * self.phase_pdf(vis, wo, rng)
+        let pdf = self.phase_pdf(vis, wo, rng);
+        if pdf == 0.0 {
+            return 0.0;
+        }
+        let h = (vis.wi() + wo).normalize();
+        self.reflectance(vis.wi().dot(&h)) * pdf
     }
 
     fn phase_pdf<V: VisibleNormals, R: Rng + ?Sized>(
@@ -430,6 +463,34 @@ impl<M: Ndf, F: Facet> Facet for Microsurface<M, F> {
             Some((fr, w)) => w * self.pdf(fr.to_local(vis.wi()), fr.to_local(wo), rng),
             None => 0.0,
         }
+    }
+}
+
+/// Validates a finite quantity > 0.
+fn check_positive(name: &'static str, value: f64) -> Result<f64, ParamError> {
+    let value = finite(name, value)?;
+    if value > 0.0 {
+        Ok(value)
+    } else {
+        Err(ParamError::OutOfRange {
+            name,
+            value,
+            expected: "> 0",
+        })
+    }
+}
+
+/// Validates a finite quantity >= 0.
+fn check_non_negative(name: &'static str, value: f64) -> Result<f64, ParamError> {
+    let value = finite(name, value)?;
+    if value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(ParamError::OutOfRange {
+            name,
+            value,
+            expected: ">= 0",
+        })
     }
 }
 
