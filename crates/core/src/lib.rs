@@ -10,6 +10,7 @@ pub mod bsdf;
 pub mod error;
 pub mod math;
 pub mod ndf;
+pub mod validate;
 
 pub use error::ParamError;
 pub use math::Vec3;
