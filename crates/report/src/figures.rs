@@ -246,14 +246,14 @@ impl Figure for SampleFigure<'_> {
             PanelKind::Fit => (
                 format!(
                     "{}: measured transmission and single-scattering fits",
-                    self.view.name
+                    self.view.title()
                 ),
                 angle_legend(self.palette, true),
             ),
             PanelKind::Residual => (
                 format!(
                     "{}: residuals of the fits, measured − model",
-                    self.view.name
+                    self.view.title()
                 ),
                 angle_legend(self.palette, false),
             ),
@@ -301,7 +301,7 @@ impl Figure for OverviewFigure<'_> {
         for (row, view) in cells.chunks(ModelSlot::ALL.len()).zip(self.views) {
             for (area, slot) in row.iter().zip(ModelSlot::ALL) {
                 let area = area.margin(0, 8, 6, 6);
-                let heading = format!("{} · {}", view.name, slot.title());
+                let heading = format!("{} · {}", view.title(), slot.title());
                 draw_fit_panel(
                     &area,
                     view,
@@ -444,7 +444,7 @@ fn draw_ndf_panel<DB: DrawingBackend>(
     let (title_area, plot_area) = area.split_vertically(look.title_height / 2 + 8);
     let (w, h) = title_area.dim_in_pixel();
     title_area.draw_text(
-        view.name,
+        view.title(),
         &bold(look.heading).pos(Pos::new(HPos::Center, VPos::Center)),
         (w as i32 / 2, h as i32 / 2),
     )?;

@@ -249,7 +249,7 @@ pub fn render_report(
                     "sample `{}`, {}: the stored rmse of sqrt(L) is {} but the data and the \
                      fitted parameters give {} (single scattering, eta {}); the fit may come \
                      from other data or other options",
-                    view.name,
+                    view.title(),
                     ModelSlot::of(p.fit).title(),
                     fmt_sig(stored, 6),
                     fmt_sig(p.rmse_sqrt_l, 6),
@@ -274,7 +274,7 @@ pub fn render_report(
             &SampleFigure::residuals(view, &palette, opts.y_scale),
         )?;
         figure_names.push((
-            view.name.to_string(),
+            view.title().to_string(),
             format!("{stem}-fits.png"),
             format!("{stem}-residuals.png"),
         ));
@@ -289,7 +289,12 @@ pub fn render_report(
 
     let by_sample: Vec<(&str, Vec<&FitResult>)> = views
         .iter()
-        .map(|v| (v.name, v.panels.iter().flatten().map(|p| p.fit).collect()))
+        .map(|v| {
+            (
+                v.title(),
+                v.panels.iter().flatten().map(|p| p.fit).collect(),
+            )
+        })
         .collect();
     files.push(ReportFile {
         name: "fits.md".to_string(),

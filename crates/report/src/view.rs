@@ -212,6 +212,15 @@ fn panel_view<'a>(
 }
 
 impl<'a> SampleView<'a> {
+    /// The sample's name for titles; `(unnamed)` for a file without a `sample` column.
+    pub(crate) fn title(&self) -> &str {
+        if self.name.is_empty() {
+            "(unnamed)"
+        } else {
+            self.name
+        }
+    }
+
     /// Prepares a sample and its fits (already checked to belong to it, at most one per slot).
     pub(crate) fn new(
         sample: &'a Sample,

@@ -500,3 +500,25 @@ fn fmt_sig_formats() {
     assert_eq!(fmt_sig(1.5e-5, 2), "1.5e-5");
     assert_eq!(fmt_sig(f64::NAN, 2), "NaN");
 }
+
+#[test]
+fn an_unnamed_sample_gets_a_file_name_and_a_title() {
+    let data = Dataset {
+        source: PathBuf::from("x"),
+        samples: vec![synth_sample("", params(ModelKind::Ggx, 0.3, 0.0, 1.0), 0.0)],
+    };
+    let f = vec![fit(
+        &data.samples[0],
+        params(ModelKind::Ggx, 0.3, 0.0, 1.0),
+        false,
+    )];
+    let report = render_report(&data, &f, &ReportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty());
+    assert!(svg(&report, "sample-fits.svg").contains("(unnamed): measured transmission"));
+    assert!(svg(&report, "overview.svg").contains("(unnamed) · GGX"));
+    // The exact model has zero residual everywhere.
+    assert!(
+        svg(&report, "fits.md")
+            .contains("| (unnamed) | GGX | 0.3000 ± 0.0010 | – | 1.000 ± 0.0040 | **0** |")
+    );
+}
