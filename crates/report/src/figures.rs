@@ -123,6 +123,23 @@ enum PanelKind {
     Residual,
 }
 
+/// Filled markers for fitted points, hollow ones for points of weight 0.
+fn markers<'a>(
+    points: &'a [(f64, f64)],
+    fitted: &'a [bool],
+    colour: RGBColor,
+    r: u32,
+) -> impl Iterator<Item = Circle<(f64, f64), u32>> + 'a {
+    points.iter().zip(fitted).map(move |(&p, &f)| {
+        let style = if f {
+            colour.filled()
+        } else {
+            colour.stroke_width(1)
+        };
+        Circle::new(p, r, style)
+    })
+}
+
 #[allow(clippy::too_many_arguments)]
 fn draw_fit_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
@@ -182,13 +199,13 @@ fn draw_fit_panel<DB: DrawingBackend>(
         let r = look.marker;
         match kind {
             PanelKind::Fit => {
-                chart.draw_series(g.points.iter().map(|&p| Circle::new(p, r, colour.filled())))?;
+                chart.draw_series(markers(&g.points, &g.fitted, colour, r))?;
             }
             PanelKind::Residual => {
                 if let Some(p) = panel {
                     let res = &p.residuals[k];
                     chart.draw_series(LineSeries::new(res.iter().copied(), colour.mix(0.5)))?;
-                    chart.draw_series(res.iter().map(|&p| Circle::new(p, r, colour.filled())))?;
+                    chart.draw_series(markers(res, &g.fitted, colour, r))?;
                 }
             }
         }
@@ -248,14 +265,14 @@ impl Figure for SampleFigure<'_> {
                     "{}: measured transmission and single-scattering fits",
                     self.view.title()
                 ),
-                angle_legend(self.palette, true),
+                angle_legend(self.palette, true, self.view.has_unfitted()),
             ),
             PanelKind::Residual => (
                 format!(
                     "{}: residuals of the fits, measured − model",
                     self.view.title()
                 ),
-                angle_legend(self.palette, false),
+                angle_legend(self.palette, false, self.view.has_unfitted()),
             ),
         };
         draw_header(&header, &title, &legend, HEADER_FONT)?;
@@ -294,7 +311,11 @@ impl Figure for OverviewFigure<'_> {
         draw_header(
             &header,
             "All samples: measured transmission and single-scattering fits",
-            &angle_legend(self.palette, true),
+            &angle_legend(
+                self.palette,
+                true,
+                self.views.iter().any(SampleView::has_unfitted),
+            ),
             HEADER_FONT,
         )?;
         let cells = body.split_evenly((self.views.len(), ModelSlot::ALL.len()));

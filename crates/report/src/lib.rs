@@ -146,6 +146,11 @@ pub fn file_stem(sample: &str) -> String {
 /// Relative difference above which a stored rmse counts as not reproduced.
 const RMSE_TOLERANCE: f64 = 1e-6;
 
+/// The points a fit uses: those of weight > 0.
+fn fitted_points(sample: &stfit_fit::Sample) -> usize {
+    sample.points.iter().filter(|m| m.weight > 0.0).count()
+}
+
 /// Assigns each fit to its sample and panel, checking that it belongs there.
 fn assign_fits<'a>(
     data: &'a Dataset,
@@ -166,7 +171,7 @@ fn assign_fits<'a>(
                 sample: fit.sample.clone(),
                 model: slot.title().to_string(),
             })?;
-        let data_points = data.samples[i].points.len();
+        let data_points = fitted_points(&data.samples[i]);
         if fit.n_points != data_points {
             return Err(ReportError::PointCount {
                 sample: fit.sample.clone(),
@@ -205,7 +210,8 @@ fn push_figure(
 
 /// Draws the report of `fits` (any subset of the four panels per sample; panels without a fit
 /// show the data alone) against `data`. Every fit must name a sample of `data`, have been made
-/// on its number of points, and be the only one of its model for that sample.
+/// on its number of points of weight > 0, and be the only one of its model for that sample.
+/// Points of weight 0 are drawn hollow.
 pub fn render_report(
     data: &Dataset,
     fits: &[FitResult],

@@ -101,6 +101,7 @@ pub(crate) fn bold(size: f64) -> TextStyle<'static> {
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum Glyph {
     Marker,
+    HollowMarker,
     Line,
     MarkerAndLine,
 }
@@ -145,6 +146,9 @@ pub(crate) fn draw_header<DB: DrawingBackend>(
         let line = e.colour.stroke_width(3);
         match e.glyph {
             Glyph::Marker => area.draw(&Circle::new((mid, y), r, e.colour.filled()))?,
+            Glyph::HollowMarker => {
+                area.draw(&Circle::new((mid, y), r, e.colour.stroke_width(2)))?
+            }
             Glyph::Line => area.draw(&PathElement::new(vec![(x, y), (x + glyph_w, y)], line))?,
             Glyph::MarkerAndLine => {
                 area.draw(&PathElement::new(vec![(x, y), (x + glyph_w, y)], line))?;
@@ -158,13 +162,24 @@ pub(crate) fn draw_header<DB: DrawingBackend>(
 }
 
 /// Legend of the fit and residual figures: what markers and lines mean, and the colour of
-/// each incidence angle.
-pub(crate) fn angle_legend(palette: &AnglePalette, lines: bool) -> Vec<LegendEntry> {
+/// each incidence angle; `unfitted` adds the hollow marker of points of weight 0.
+pub(crate) fn angle_legend(
+    palette: &AnglePalette,
+    lines: bool,
+    unfitted: bool,
+) -> Vec<LegendEntry> {
     let mut entries = vec![LegendEntry {
         colour: GREY,
         glyph: Glyph::Marker,
         label: "measured".into(),
     }];
+    if unfitted {
+        entries.push(LegendEntry {
+            colour: GREY,
+            glyph: Glyph::HollowMarker,
+            label: "weight 0, not fitted".into(),
+        });
+    }
     if lines {
         entries.push(LegendEntry {
             colour: GREY,

@@ -67,6 +67,9 @@ pub(crate) struct AngleGroup {
     pub points: Vec<Point>,
     /// The measured `L` of each point (same order), for residuals.
     pub l: Vec<f64>,
+    /// Whether each point was fitted: points of weight 0 are plotted hollow and left out of
+    /// the rmse, as the fit leaves them out.
+    pub fitted: Vec<bool>,
 }
 
 /// One fitted model of a sample, evaluated for plotting.
@@ -78,7 +81,8 @@ pub(crate) struct PanelView<'a> {
     pub curves: Vec<Vec<Point>>,
     /// Measured minus model, in the report's scale, per [`AngleGroup`].
     pub residuals: Vec<Vec<Point>>,
-    /// The rmse of `sqrt(L)` recomputed from the data and the fitted parameters.
+    /// The rmse of `sqrt(L)` over the fitted points (weight > 0), recomputed from the data and
+    /// the fitted parameters.
     pub rmse_sqrt_l: f64,
 }
 
@@ -155,11 +159,13 @@ fn angle_groups(sample: &Sample, y: YScale) -> Vec<AngleGroup> {
                 theta_i_deg: m.theta_i_deg,
                 points: Vec::new(),
                 l: Vec::new(),
+                fitted: Vec::new(),
             });
         }
         let g = groups.last_mut().expect("a group was just pushed");
         g.points.push((m.theta_o_deg, y.apply(m.l)));
         g.l.push(m.l);
+        g.fitted.push(m.weight > 0.0);
     }
     groups
 }
@@ -190,14 +196,16 @@ fn panel_view<'a>(
             .collect::<Result<Vec<_>, ParamError>>()
             .map_err(invalid)?;
         let mut res = Vec::with_capacity(g.points.len());
-        for (&(x, y_meas), &l_meas) in g.points.iter().zip(&g.l) {
+        for ((&(x, y_meas), &l_meas), &fitted) in g.points.iter().zip(&g.l).zip(&g.fitted) {
             let l = params
                 .l_single(g.theta_i_deg, x, opts.eta, opts.masking)
                 .map_err(invalid)?;
             res.push((x, y_meas - y.apply(l)));
-            let d = YScale::Sqrt.apply(l_meas) - YScale::Sqrt.apply(l);
-            sum_sq += d * d;
-            n += 1;
+            if fitted {
+                let d = YScale::Sqrt.apply(l_meas) - YScale::Sqrt.apply(l);
+                sum_sq += d * d;
+                n += 1;
+            }
         }
         curves.push(curve);
         residuals.push(res);
@@ -249,6 +257,11 @@ impl<'a> SampleView<'a> {
             theta_o_range: (x0, x1),
             panels,
         })
+    }
+
+    /// Whether any point has weight 0 (drawn hollow, not fitted).
+    pub(crate) fn has_unfitted(&self) -> bool {
+        self.groups.iter().any(|g| g.fitted.contains(&false))
     }
 
     /// Smallest and largest plotted value of data and model curves.

@@ -522,3 +522,33 @@ fn an_unnamed_sample_gets_a_file_name_and_a_title() {
             .contains("| (unnamed) | GGX | 0.3000 ± 0.0010 | – | 1.000 ± 0.0040 | **0** |")
     );
 }
+
+#[test]
+fn points_of_weight_zero_are_drawn_hollow_and_left_out_of_the_rmse() {
+    let truth = params(ModelKind::StudentT, 0.3, 2.2, 1.0);
+    let mut sample = synth_sample("weighted", truth, 0.0);
+    // Stray light on a few points, excluded from the fit by weight 0.
+    for m in sample.points.iter_mut().step_by(10) {
+        m.l += 0.05;
+        m.weight = 0.0;
+    }
+    let fitted = sample.points.iter().filter(|m| m.weight > 0.0).count();
+    let mut f = fit(&sample, truth, false);
+    f.n_points = fitted;
+    f.rmse_sqrt_l = 0.0;
+    let data = Dataset {
+        source: PathBuf::from("x"),
+        samples: vec![sample],
+    };
+    let dir = out_dir("weights");
+    let report =
+        stfit_report::write_report(&data, &[f.clone()], &dir, &ReportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    assert!(svg(&report, "weighted-fits.svg").contains("weight 0, not fitted"));
+    // A fit that counted every point belongs to other data.
+    f.n_points = data.samples[0].points.len();
+    assert!(matches!(
+        render_report(&data, &[f], &ReportOptions::default()),
+        Err(ReportError::PointCount { .. })
+    ));
+}
