@@ -10,6 +10,8 @@ pub mod bsdf;
 pub mod error;
 pub mod math;
 pub mod ndf;
+pub mod quadrature;
+pub mod sphere;
 pub mod validate;
 
 pub use error::ParamError;
