@@ -1,6 +1,6 @@
 //! The GGX (Trowbridge-Reitz) NDF.
 
-use super::{Ndf, cos_tan2, lambda_on_sphere};
+use super::{Ndf, cos2_sin2, lambda_on_sphere};
 use crate::error::{ParamError, check_alpha};
 use crate::math::{Vec3, safe_sqrt};
 use rand::{Rng, RngExt};
@@ -27,14 +27,15 @@ impl Ggx {
 }
 
 impl Ndf for Ggx {
+    /// `alpha^2 / (pi (alpha^2 cos^2 + sin^2)^2)`, the same formula multiplied through by
+    /// `cos^4` so that it stays finite (`1 / (pi alpha^2)`) at grazing normals.
     fn d(&self, wm: Vec3) -> f64 {
-        let Some((u, t2)) = cos_tan2(wm) else {
+        let Some((u2, sin2)) = cos2_sin2(wm) else {
             return 0.0;
         };
         let a2 = self.alpha * self.alpha;
-        let e = a2 + t2;
-        let u2 = u * u;
-        a2 / (PI * u2 * u2 * e * e)
+        let k = a2 * u2 + sin2;
+        a2 / (PI * k * k)
     }
 
     /// `Lambda = (-1 + sqrt(1 + alpha^2 tan^2 theta)) / 2`.

@@ -9,6 +9,7 @@
 mod any;
 mod beckmann;
 mod ggx;
+pub mod special;
 mod student_t;
 
 pub use any::AnyNdf;
@@ -22,7 +23,8 @@ use rand::Rng;
 /// An isotropic microfacet normal distribution with Smith masking and exact sampling of its
 /// distribution of visible normals.
 pub trait Ndf: Clone + Send + Sync {
-    /// `D(wm)`, normalised by projected area; zero for `wm.z <= 0`. `wm` must be unit length.
+    /// `D(wm)`, normalised by projected area; zero for `wm.z <= 0` (and below 1.5e-162, where
+    /// `wm.z^2` underflows). `wm` must be unit length.
     fn d(&self, wm: Vec3) -> f64;
 
     /// Smith `Lambda(w)` for any unit `w` on the sphere, extended below the horizon by
@@ -64,16 +66,17 @@ pub trait Ndf: Clone + Send + Sync {
     }
 }
 
-/// `(u, tan^2 theta)` of a facet normal, or `None` for `wm.z <= 0`.
+/// `(cos^2 theta, sin^2 theta)` of a facet normal, or `None` for `wm.z <= 0` and where
+/// `cos^2` underflows (`wm.z < 1.5e-162`; the NDFs are taken as 0 there, which drops a mass
+/// below 1e-30 even for the most heavy-tailed Student-T). NDFs combine the two so that
+/// nothing overflows or meets `0 * inf` near the horizon.
 #[inline]
-pub(crate) fn cos_tan2(wm: Vec3) -> Option<(f64, f64)> {
-    let u = wm.z;
-    if u <= 0.0 {
+pub(crate) fn cos2_sin2(wm: Vec3) -> Option<(f64, f64)> {
+    let u2 = wm.z * wm.z;
+    if wm.z <= 0.0 || u2 == 0.0 {
         return None;
     }
-    let u2 = u * u;
-    let sin2 = (wm.x * wm.x + wm.y * wm.y).min(1.0);
-    Some((u, sin2 / u2))
+    Some((u2, (wm.x * wm.x + wm.y * wm.y).min(1.0)))
 }
 
 /// Extends a Lambda defined for upward directions, given as a function of `mu = cot(theta) >

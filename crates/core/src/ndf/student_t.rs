@@ -1,12 +1,15 @@
 //! The Student-T NDF of Ribardiere et al. 2017 in d'Eon's (alpha, gamma) parameterisation.
 
-use super::{Ndf, cos_tan2, lambda_on_sphere};
+use super::beckmann::{open_uniform, sample_visible_beckmann};
+use super::special::{FRAC_1_SQRT_PI, erfcx_gap};
+use super::{Ndf, cos2_sin2, lambda_on_sphere};
 use crate::error::{ParamError, check_alpha, check_gamma};
 use crate::math::Vec3;
+use libm::erfc;
 use rand::Rng;
-use statrs::function::beta::beta_reg;
+use rand_distr::{Distribution, Gamma};
 use statrs::function::gamma::ln_gamma;
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_1_SQRT_2, PI};
 
 /// Student-T: `D(u) = (g-1)^g alpha^(2g-2) / (pi u^4 (alpha^2 (g-1) + tan^2 theta)^g)` with
 /// shape `g = gamma > 3/2`. Slopes along one axis are `(alpha/sqrt 2) T_nu`, `nu = 2g - 2`.
@@ -15,28 +18,55 @@ use std::f64::consts::PI;
 pub struct StudentT {
     alpha: f64,
     gamma: f64,
-    /// `ln((g-1)^g alpha^(2g-2) / pi)`, the log of D's numerator.
-    ln_d_norm: f64,
+    /// `1 / (pi alpha^2)`: `D(u) = d_scale / u^4 * (1 + tan^2 / ((g-1) alpha^2))^-g`.
+    d_scale: f64,
+    /// `1 / ((g-1) alpha^2)`.
+    inv_a2g1: f64,
     /// Degrees of freedom `nu = 2g - 2` of the 1D slope distribution.
     nu: f64,
-    /// Normalisation of the Student t pdf: `Gamma((nu+1)/2) / (sqrt(nu pi) Gamma(nu/2))`.
+    /// Student t pdf at 0: `Gamma((nu+1)/2) / (sqrt(nu pi) Gamma(nu/2)) = 1 / (sqrt(nu) B(nu/2, 1/2))`.
     t_norm: f64,
+    /// `alpha sqrt(g-1)`: `alpha_m = alpha sqrt(g-1) / sqrt(m)` in the Gamma superposition.
+    alpha_g1: f64,
+    /// Weight constant of part 1 of the tilted mixing density (theory section 4):
+    /// `W1 = s * w1_scale / (1+k)^(g-3/2)`.
+    w1_scale: f64,
+    /// `Gamma(g-1, 1)`: the mixing density of the superposition.
+    mix: Gamma<f64>,
+    /// `Gamma(g-3/2 (+1 if g-3/2 < 1), 1)`: part 1, boosted to shape >= 1 so that tiny `m`
+    /// can be drawn in log space.
+    part1: Gamma<f64>,
 }
 
 impl StudentT {
-    /// A Student-T NDF with roughness `alpha > 0` and shape `gamma > 3/2`.
+    /// A Student-T NDF with roughness `alpha > 0` and shape `gamma > 3/2` (finite; typed errors
+    /// otherwise).
     pub fn new(alpha: f64, gamma: f64) -> Result<Self, ParamError> {
         let alpha = check_alpha(alpha)?;
         let gamma = check_gamma(gamma)?;
         let nu = 2.0 * gamma - 2.0;
-        let ln_d_norm = gamma * (gamma - 1.0).ln() + (2.0 * gamma - 2.0) * alpha.ln() - PI.ln();
         let t_norm = (ln_gamma(0.5 * (nu + 1.0)) - ln_gamma(0.5 * nu)).exp() / (nu * PI).sqrt();
+        let g1 = gamma - 1.0;
+        let shape1 = gamma - 1.5;
+        let w1_scale =
+            alpha * g1.sqrt() * 0.5 * FRAC_1_SQRT_PI * (ln_gamma(shape1) - ln_gamma(g1)).exp();
+        let boosted = if shape1 < 1.0 { shape1 + 1.0 } else { shape1 };
+        let param = |name, value| ParamError::OutOfRange {
+            name,
+            value,
+            expected: "a valid Gamma shape",
+        };
         Ok(Self {
             alpha,
             gamma,
-            ln_d_norm,
+            d_scale: 1.0 / (PI * alpha * alpha),
+            inv_a2g1: 1.0 / (g1 * alpha * alpha),
             nu,
             t_norm,
+            alpha_g1: alpha * g1.sqrt(),
+            w1_scale,
+            mix: Gamma::new(g1, 1.0).map_err(|_| param("gamma", gamma))?,
+            part1: Gamma::new(boosted, 1.0).map_err(|_| param("gamma", gamma))?,
         })
     }
 
@@ -50,56 +80,157 @@ impl StudentT {
         self.gamma
     }
 
-    /// Student t pdf `f_nu(k)`.
-    #[inline]
-    fn t_pdf(&self, k: f64) -> f64 {
-        self.t_norm * (1.0 + k * k / self.nu).powf(-0.5 * (self.nu + 1.0))
-    }
-
-    /// Upper tail `S_nu(k) = P(T_nu > k)` for `k >= 0`, a regularised incomplete beta.
-    #[inline]
-    fn t_upper_tail(&self, k: f64) -> f64 {
-        let x = self.nu / (self.nu + k * k);
-        0.5 * beta_reg(0.5 * self.nu, 0.5, x)
-    }
-
-    /// `g(k) = (nu + k^2)/(nu - 1) f_nu(k) - k S_nu(k)` for `k >= 0`: `E[(T - k)+]`, so that
-    /// `Lambda = (s/mu) g(mu/s)` with `s = alpha/sqrt 2`.
+    /// `E[(T - k)_+]` for a Student t variate `T` with `nu` degrees of freedom, `k >= 0`:
+    /// `(nu + k^2)/(nu - 1) f_nu(k) - k S_nu(k)` with the pdf `f_nu` and upper tail `S_nu`,
+    /// so that `Lambda = (s/mu) excess(mu/s)` with `s = alpha/sqrt 2` (theory section 3).
+    /// `S_nu(k) = I_x(nu/2, 1/2) / 2` with `x = nu/(nu+k^2)` by the incomplete-beta
+    /// continued fraction, whose prefactor `x^(nu/2) (1-x)^(1/2) / B` equals `f_nu(k) k`, so
+    /// only one power is taken.
     #[inline]
     fn excess(&self, k: f64) -> f64 {
-        (self.nu + k * k) / (self.nu - 1.0) * self.t_pdf(k) - k * self.t_upper_tail(k)
+        if k > 1e100 {
+            return 0.0;
+        }
+        let nu = self.nu;
+        let q = k * k / nu;
+        let f = self.t_norm * (-0.5 * (nu + 1.0) * q.ln_1p()).exp();
+        let a = 0.5 * nu;
+        let x = 1.0 / (1.0 + q);
+        let upper = if x < (a + 1.0) / (a + 2.5) {
+            f * k * beta_cf(a, 0.5, x) / nu
+        } else {
+            0.5 - f * k * beta_cf(0.5, a, q / (1.0 + q))
+        };
+        (nu + k * k) / (nu - 1.0) * f - k * upper
+    }
+
+    /// Draws `ln m` from part 1 of the tilted mixing density: `Gamma(g - 3/2, rate 1 + k)`,
+    /// in log space (for shape `< 1`, `X U^(1/shape)` with `X ~ Gamma(shape + 1)`).
+    #[inline]
+    fn draw_ln_m_part1<R: Rng + ?Sized>(&self, ln1p_k: f64, rng: &mut R) -> f64 {
+        let shape1 = self.gamma - 1.5;
+        let mut ln_m = self.part1.sample(rng).ln() - ln1p_k;
+        if shape1 < 1.0 {
+            ln_m += open_uniform(rng).ln() / shape1;
+        }
+        ln_m
     }
 }
 
+/// Continued fraction of the regularised incomplete beta function (Lentz's method, as in
+/// Numerical Recipes' `betacf`): `I_x(a, b) = x^a (1-x)^b / (a B(a, b)) * beta_cf(a, b, x)`,
+/// converging fast for `x < (a+1)/(a+b+2)`.
+#[inline]
+fn beta_cf(a: f64, b: f64, x: f64) -> f64 {
+    const TINY: f64 = 1e-300;
+    let qab = a + b;
+    let qap = a + 1.0;
+    let qam = a - 1.0;
+    let mut c = 1.0;
+    let mut d = 1.0 - qab * x / qap;
+    if d.abs() < TINY {
+        d = TINY;
+    }
+    d = 1.0 / d;
+    let mut h = d;
+    for m in 1..10_000 {
+        let m = m as f64;
+        let m2 = 2.0 * m;
+        let aa = m * (b - m) * x / ((qam + m2) * (a + m2));
+        d = 1.0 + aa * d;
+        if d.abs() < TINY {
+            d = TINY;
+        }
+        c = 1.0 + aa / c;
+        if c.abs() < TINY {
+            c = TINY;
+        }
+        d = 1.0 / d;
+        h *= d * c;
+        let aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
+        d = 1.0 + aa * d;
+        if d.abs() < TINY {
+            d = TINY;
+        }
+        c = 1.0 + aa / c;
+        if c.abs() < TINY {
+            c = TINY;
+        }
+        d = 1.0 / d;
+        let del = d * c;
+        h *= del;
+        if (del - 1.0).abs() < 1e-16 {
+            break;
+        }
+    }
+    h
+}
+
 impl Ndf for StudentT {
+    /// `exp(-2 ln cos^2 - g ln(1 + tan^2 / ((g-1) alpha^2))) / (pi alpha^2)`; in log form so
+    /// that `cos^-4` cannot overflow at grazing normals (where D diverges like
+    /// `cos^(2g-4)` for g < 2).
     fn d(&self, wm: Vec3) -> f64 {
-        let Some((u, t2)) = cos_tan2(wm) else {
+        let Some((u2, sin2)) = cos2_sin2(wm) else {
             return 0.0;
         };
-        let g = self.gamma;
-        let e = self.alpha * self.alpha * (g - 1.0) + t2;
-        let u2 = u * u;
-        (self.ln_d_norm - g * e.ln()).exp() / (u2 * u2)
+        self.d_scale * (-2.0 * u2.ln() - self.gamma * (sin2 / u2 * self.inv_a2g1).ln_1p()).exp()
     }
 
     /// Closed form with the regularised incomplete beta function (theory section 3).
     fn lambda(&self, w: Vec3) -> f64 {
-        let s = self.alpha * std::f64::consts::FRAC_1_SQRT_2;
+        let s = self.alpha * FRAC_1_SQRT_2;
         lambda_on_sphere(w, |mu| s / mu * self.excess(mu / s))
     }
 
+    /// `c + sin * s * excess(|mu| / s)` above the horizon, `sin * s * excess(|mu| / s)` below,
+    /// with `s = alpha / sqrt 2`; no cancellation on either side.
     fn sigma(&self, w: Vec3) -> f64 {
         let (c, sin) = crate::math::cos_sin_theta(w);
         if sin == 0.0 {
             return c.max(0.0);
         }
-        let s = self.alpha * std::f64::consts::FRAC_1_SQRT_2;
+        let s = self.alpha * FRAC_1_SQRT_2;
         let k = c.abs() / (sin * s);
         let tail = sin * s * self.excess(k);
         if c > 0.0 { c + tail } else { tail }
     }
 
-    fn sample_visible<R: Rng + ?Sized>(&self, _w: Vec3, _rng: &mut R) -> Vec3 {
-        unimplemented!("exact Student-T visible-normal sampling lands with the sampler commit")
+    /// Exact, for every gamma > 3/2 and every direction, by the Gamma superposition
+    /// (theory section 4): draw the mixing variable `m` from `Gamma(g-1)` tilted by the
+    /// Beckmann projected area `sigma_B(w; alpha_m)`, then a Beckmann visible normal at
+    /// `alpha_m = alpha sqrt((g-1)/m)`. With `k = mu^2 / (alpha^2 (g-1))`, `a(m) = sqrt(k m)`:
+    /// above the horizon the tilted density is part 1 (weight `W1`, `Gamma(g-3/2, rate 1+k)`)
+    /// plus `Gamma(g-1)` thinned by `(1 + erf(a))/2` (weight `c`); below it, part 1 thinned by
+    /// `1 - sqrt(pi) a erfcx(a)`.
+    fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3 {
+        let c = w.z;
+        let sin = (w.x * w.x + w.y * w.y).sqrt();
+        if sin == 0.0 && c <= 0.0 {
+            return Vec3::z();
+        }
+        let mu = c.abs() / sin;
+        let k = mu * mu * self.inv_a2g1;
+        let ln1p_k = k.ln_1p();
+        let w1 = sin * self.w1_scale * (-(self.gamma - 1.5) * ln1p_k).exp();
+        let ln_m = loop {
+            if c >= 0.0 {
+                if w1.is_finite() && open_uniform(rng) * (w1 + c) < w1 {
+                    break self.draw_ln_m_part1(ln1p_k, rng);
+                }
+                let m = self.mix.sample(rng);
+                if m > 0.0 && open_uniform(rng) >= 0.5 * erfc((k * m).sqrt()) {
+                    break m.ln();
+                }
+            } else {
+                let ln_m = self.draw_ln_m_part1(ln1p_k, rng);
+                let a = k.sqrt() * (0.5 * ln_m).exp();
+                if open_uniform(rng) < erfcx_gap(a) {
+                    break ln_m;
+                }
+            }
+        };
+        let inv_alpha_m = (0.5 * ln_m).exp() / self.alpha_g1;
+        sample_visible_beckmann(w, inv_alpha_m, rng)
     }
 }

@@ -1,0 +1,111 @@
+//! Chi-square goodness of fit of every visible-normal sampler against its density
+//! `D_w(wm) = max(0, w.wm) D(wm) / sigma(w)`, on the whole sphere of incident directions.
+
+use rand::SeedableRng;
+use rand_pcg::Pcg64;
+use rayon::prelude::*;
+use stfit_core::Vec3;
+use stfit_core::math::{radians, spherical_direction};
+use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, Ndf, StudentT};
+use stfit_core::validate::{SphereBins, bonferroni, chi_square};
+
+const ALPHAS: [f64; 4] = [0.05, 0.3, 1.0, 2.0];
+const GAMMAS: [f64; 5] = [1.6, 2.0, 3.0, 10.0, 40.0];
+const THETAS_DEG: [f64; 6] = [0.0, 30.0, 60.0, 85.0, 100.0, 150.0];
+const SAMPLES: usize = 100_000;
+
+fn all_ndfs() -> Vec<AnyNdf> {
+    let mut v = Vec::new();
+    for &a in &ALPHAS {
+        v.push(Beckmann::new(a).unwrap().into());
+        v.push(Ggx::new(a).unwrap().into());
+        for &g in &GAMMAS {
+            v.push(StudentT::new(a, g).unwrap().into());
+        }
+    }
+    v
+}
+
+struct Case {
+    ndf: AnyNdf,
+    theta_deg: f64,
+    w: Vec3,
+    seed: u64,
+}
+
+fn cases() -> Vec<Case> {
+    let mut out = Vec::new();
+    for (i, ndf) in all_ndfs().into_iter().enumerate() {
+        for (j, &t) in THETAS_DEG.iter().enumerate() {
+            // A non-zero azimuth exercises the rotation to the frame of w.
+            let w = spherical_direction(radians(t), 0.7);
+            if t > 90.0 && ndf.sigma(w) <= 1e-4 {
+                continue;
+            }
+            out.push(Case {
+                ndf,
+                theta_deg: t,
+                w,
+                seed: 1000 * i as u64 + j as u64,
+            });
+        }
+    }
+    out
+}
+
+#[test]
+fn visible_normal_samplers_match_d_visible() {
+    let cases = cases();
+    let significance = bonferroni(0.01, cases.len());
+    let results: Vec<Result<f64, String>> = cases
+        .par_iter()
+        .map(|c| {
+            let mut rng = Pcg64::seed_from_u64(c.seed);
+            let samples: Vec<Vec3> = (0..SAMPLES)
+                .map(|_| c.ndf.sample_visible(c.w, &mut rng))
+                .collect();
+            for wm in &samples {
+                let ok = (wm.norm() - 1.0).abs() < 1e-12 && wm.z > 0.0 && wm.dot(&c.w) > 0.0;
+                if !ok {
+                    return Err(format!(
+                        "{:?} theta {}: invalid sample {wm:?}",
+                        c.ndf, c.theta_deg
+                    ));
+                }
+            }
+            let sigma = c.ndf.sigma(c.w);
+            let (ndf, w) = (c.ndf, c.w);
+            let density = move |wm: Vec3| {
+                let cos = w.dot(&wm);
+                if cos > 0.0 {
+                    cos * ndf.d(wm) / sigma
+                } else {
+                    0.0
+                }
+            };
+            let bins = SphereBins::equal_mass(Vec3::z(), 24, 24, density);
+            let r = chi_square(&bins, &samples, density, &[w, Vec3::z()]);
+            if r.passes(significance) {
+                Ok(r.p_value)
+            } else {
+                Err(format!("{:?} theta {}: {r}", c.ndf, c.theta_deg))
+            }
+        })
+        .collect();
+    let min_p = results
+        .iter()
+        .filter_map(|r| r.as_ref().ok())
+        .fold(1.0f64, |a, &b| a.min(b));
+    println!("{} cases, smallest p-value {min_p:.3e}", cases.len());
+    let failures: Vec<&str> = results
+        .iter()
+        .filter_map(|r| r.as_ref().err().map(|s| s.as_str()))
+        .collect();
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases fail at p < {significance:.2e}:\n{}",
+        failures.len(),
+        cases.len(),
+        failures.join("\n")
+    );
+}
