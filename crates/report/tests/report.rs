@@ -552,3 +552,28 @@ fn points_of_weight_zero_are_drawn_hollow_and_left_out_of_the_rmse() {
         Err(ReportError::PointCount { .. })
     ));
 }
+
+#[test]
+fn stored_fits_round_trip_every_float_exactly() {
+    // serde_json parses floats exactly only with its `float_roundtrip` feature; without it a
+    // report from stored fits can differ from one that fits first in the last bit.
+    let data = dataset();
+    let template = fits(&data)[0].clone();
+    let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+    let many: Vec<FitResult> = (0..2000)
+        .map(|_| {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let v = f64::from_bits((x >> 12) | 0x3FF0_0000_0000_0000) - 1.0;
+            FitResult {
+                alpha: v,
+                rmse_sqrt_l: v * 1e-3,
+                scale: v * 1e4,
+                ..template.clone()
+            }
+        })
+        .collect();
+    let json = serde_json::to_string(&stfit_report::FitsFile { fits: many.clone() }).unwrap();
+    assert_eq!(read_fits_json(&json).unwrap(), many);
+}
