@@ -164,4 +164,22 @@ impl ModelParams {
         let f_t = bsdf.f_cos(wi, wo) / wo.z.abs();
         Ok(self.scale * f_t * wi.z / (eta * eta))
     }
+
+    /// [`ModelParams::l_single`] at many `(theta_i_deg, theta_o_deg)` pairs at once: the
+    /// NDF-independent geometry is computed once per pair and Smith `Lambda` once per distinct
+    /// direction.
+    pub fn l_single_batch(
+        &self,
+        angles: &[(f64, f64)],
+        eta: f64,
+        masking: stfit_core::bsdf::Masking,
+    ) -> Result<Vec<f64>, stfit_core::ParamError> {
+        let ndf = self.ndf()?;
+        stfit_core::error::finite("scale", self.scale)?;
+        let geom = crate::objective::Geometry::new(angles.iter().copied(), eta)?;
+        let mut out = Vec::with_capacity(angles.len());
+        geom.unit_model(&ndf, masking, &mut out);
+        out.iter_mut().for_each(|l| *l *= self.scale);
+        Ok(out)
+    }
 }

@@ -1,0 +1,565 @@
+//! Fitting the single-scattering model to one sample: variable projection of the scale,
+//! multi-start local minimisation over the shape, and standard errors from the Gauss-Newton
+//! curvature at the optimum.
+//!
+//! Search coordinates: `x0 = ln(alpha)` and, for Student-T with free gamma,
+//! `x1 = ln(gamma - 3/2)`, so every point of the search space is a valid model. They are
+//! clamped to `alpha in [ALPHA_MIN, ALPHA_MAX]` and `gamma - 3/2 in [GAMMA_EXCESS_MIN,
+//! GAMMA_EXCESS_MAX]` (a fit that ends on such a bound says the data want a model outside the
+//! family, e.g. Beckmann-like tails for Student-T).
+//!
+//! Standard errors (natural units of alpha, gamma, scale): with the residuals of the chosen loss
+//! `r_j = sqrt(w_j) (y_j - T(scale * m_j(alpha, gamma)))` (`T = sqrt` or identity) and their
+//! Jacobian `J` in `theta = (alpha, [gamma], scale)` (central finite differences in alpha and
+//! gamma, analytic in scale),
+//!
+//! ```text
+//! Cov(theta) = sigma^2 (J^T J)^{-1},   sigma^2 = RSS / (n - p),
+//! ```
+//!
+//! the Gauss-Newton form of `2 sigma^2 H^{-1}` with `H` the Hessian of `RSS = sum r_j^2` at the
+//! optimum, `n` the number of fitted points and `p` the number of fitted parameters.
+
+use stfit_core::ParamError;
+use stfit_core::error::{check_eta, check_gamma};
+use thiserror::Error;
+
+use crate::data::Sample;
+use crate::model::{FitOptions, FitResult, Loss, ModelKind, ModelParams, ModelSpec, Scattering};
+use crate::objective::{Geometry, Projected, signed_sqrt};
+use crate::optimize::minimize;
+
+/// Smallest roughness the search reaches.
+pub const ALPHA_MIN: f64 = 1e-3;
+/// Largest roughness the search reaches.
+pub const ALPHA_MAX: f64 = 20.0;
+/// Smallest `gamma - 3/2` the search reaches.
+pub const GAMMA_EXCESS_MIN: f64 = 1e-3;
+/// Largest `gamma - 3/2` the search reaches (Student-T is then within a fraction of a percent
+/// of Beckmann).
+pub const GAMMA_EXCESS_MAX: f64 = 500.0;
+
+/// Roughness values of the starting grid.
+const ALPHA_GRID: [f64; 8] = [0.02, 0.04, 0.07, 0.12, 0.2, 0.35, 0.6, 1.0];
+/// Shape values of the starting grid (free-gamma Student-T).
+const GAMMA_GRID: [f64; 5] = [1.7, 2.2, 3.2, 6.0, 20.0];
+/// Local optimisations are started from at most this many grid local minima.
+const MAX_STARTS: usize = 3;
+
+/// Why a fit could not be made.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum FitError {
+    /// Fewer usable points (finite, positive weight) than the fit needs.
+    #[error(
+        "sample `{sample}`: {n} usable points, a fit with {params} parameters needs at least {needed}"
+    )]
+    TooFewPoints {
+        sample: String,
+        n: usize,
+        params: usize,
+        needed: usize,
+    },
+    /// Every usable measured value is zero: nothing to fit.
+    #[error("sample `{sample}`: every measured value is zero")]
+    AllZero { sample: String },
+    /// A measurement outside the model's domain.
+    #[error("sample `{sample}`, point {index}: {reason}")]
+    InvalidData {
+        sample: String,
+        index: usize,
+        reason: String,
+    },
+    /// An invalid model parameter or option (gamma <= 3/2, eta <= 0, non-finite values).
+    #[error("invalid parameter: {0}")]
+    InvalidParameter(#[from] ParamError),
+    /// A model specification that makes no sense (e.g. a fixed gamma for GGX).
+    #[error("invalid model: {0}")]
+    InvalidSpec(String),
+    /// The model is zero at every point whatever its parameters.
+    #[error("sample `{sample}`: no microfacet connects any measured pair of directions")]
+    NoSignal { sample: String },
+    /// The optimiser failed from every starting point.
+    #[error("sample `{sample}`, model {model}: optimizer failed: {reason}")]
+    Optimizer {
+        sample: String,
+        model: &'static str,
+        reason: String,
+    },
+    /// A requested feature that is not available.
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+/// A sample checked and precomputed once, fitted by several models.
+struct Prepared<'a> {
+    sample: &'a Sample,
+    geom: Geometry,
+    /// Measured `L` of the usable points.
+    l: Vec<f64>,
+    w: Vec<f64>,
+}
+
+impl<'a> Prepared<'a> {
+    fn new(sample: &'a Sample, opts: &FitOptions) -> Result<Self, FitError> {
+        check_eta(opts.eta)?;
+        if opts.scattering == Scattering::Multiple {
+            return Err(FitError::Unsupported(
+                "fitting with multiple scattering (`Scattering::Multiple`) needs the \
+                 random-walk BSDF, which is not available yet; use single scattering"
+                    .into(),
+            ));
+        }
+        let invalid = |index: usize, reason: String| FitError::InvalidData {
+            sample: sample.name.clone(),
+            index,
+            reason,
+        };
+        let mut angles = Vec::with_capacity(sample.points.len());
+        let (mut l, mut w) = (Vec::new(), Vec::new());
+        for (index, p) in sample.points.iter().enumerate() {
+            if !(p.weight.is_finite() && p.weight >= 0.0) {
+                return Err(invalid(
+                    index,
+                    format!("weight must be finite and >= 0, got {}", p.weight),
+                ));
+            }
+            if p.weight == 0.0 {
+                continue;
+            }
+            if !p.l.is_finite() {
+                return Err(invalid(index, format!("L must be finite, got {}", p.l)));
+            }
+            if !(p.theta_i_deg >= 0.0 && p.theta_i_deg < 90.0) {
+                return Err(invalid(
+                    index,
+                    format!("theta_i must be in [0, 90) degrees, got {}", p.theta_i_deg),
+                ));
+            }
+            if !(p.theta_o_deg > 90.0 && p.theta_o_deg < 270.0) {
+                return Err(invalid(
+                    index,
+                    format!(
+                        "theta_o must be in (90, 270) degrees, got {}",
+                        p.theta_o_deg
+                    ),
+                ));
+            }
+            angles.push((p.theta_i_deg, p.theta_o_deg));
+            l.push(p.l);
+            w.push(p.weight);
+        }
+        let geom = Geometry::new(angles, opts.eta)?;
+        Ok(Self { sample, geom, l, w })
+    }
+}
+
+/// The role of gamma in a model specification.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Gamma {
+    /// Beckmann and GGX have no gamma.
+    Unused,
+    /// Student-T with gamma held at this value.
+    Fixed(f64),
+    /// Student-T with gamma fitted.
+    Free,
+}
+
+/// The shape parameters searched for one model specification.
+#[derive(Debug, Clone, Copy)]
+struct Shape {
+    kind: ModelKind,
+    gamma: Gamma,
+}
+
+impl Shape {
+    fn new(spec: ModelSpec) -> Result<Self, FitError> {
+        match (spec.kind, spec.gamma_fixed) {
+            (ModelKind::StudentT, Some(g)) => Ok(Self {
+                kind: spec.kind,
+                gamma: Gamma::Fixed(check_gamma(g)?),
+            }),
+            (ModelKind::StudentT, None) => Ok(Self {
+                kind: spec.kind,
+                gamma: Gamma::Free,
+            }),
+            (kind, Some(_)) => Err(FitError::InvalidSpec(format!(
+                "a fixed gamma applies to student-t only, not {}",
+                kind.name()
+            ))),
+            (kind, None) => Ok(Self {
+                kind,
+                gamma: Gamma::Unused,
+            }),
+        }
+    }
+
+    /// Number of searched coordinates.
+    fn dims(&self) -> usize {
+        if self.gamma == Gamma::Free { 2 } else { 1 }
+    }
+
+    /// `(alpha, gamma)` of search coordinates, clamped to the search box.
+    fn params(&self, x: &[f64]) -> (f64, f64) {
+        let alpha = x[0].clamp(ALPHA_MIN.ln(), ALPHA_MAX.ln()).exp();
+        let gamma = match self.gamma {
+            Gamma::Unused => f64::NAN,
+            Gamma::Fixed(g) => g,
+            Gamma::Free => {
+                1.5 + x[1]
+                    .clamp(GAMMA_EXCESS_MIN.ln(), GAMMA_EXCESS_MAX.ln())
+                    .exp()
+            }
+        };
+        (alpha, gamma)
+    }
+
+    fn coords(&self, alpha: f64, gamma: f64) -> Vec<f64> {
+        match self.gamma {
+            Gamma::Free => vec![alpha.ln(), (gamma - 1.5).ln()],
+            Gamma::Unused | Gamma::Fixed(_) => vec![alpha.ln()],
+        }
+    }
+
+    fn model(&self, alpha: f64, gamma: f64, scale: f64) -> ModelParams {
+        ModelParams {
+            kind: self.kind,
+            alpha,
+            gamma,
+            scale,
+        }
+    }
+}
+
+/// Evaluates the reduced (scale-projected) cost of a sample.
+struct Evaluator<'p, 'a> {
+    prep: &'p Prepared<'a>,
+    proj: Projected,
+    shape: Shape,
+    opts: FitOptions,
+}
+
+impl Evaluator<'_, '_> {
+    /// Unit-scale model values at `(alpha, gamma)`.
+    fn unit_model(&self, alpha: f64, gamma: f64, m: &mut Vec<f64>) -> Result<(), ParamError> {
+        let ndf = self.shape.model(alpha, gamma, 1.0).ndf()?;
+        self.prep.geom.unit_model(&ndf, self.opts.masking, m);
+        Ok(())
+    }
+
+    /// Reduced cost and best amplitude at `(alpha, gamma)`.
+    fn project(&self, alpha: f64, gamma: f64) -> Result<crate::objective::Projection, ParamError> {
+        let mut m = Vec::with_capacity(self.prep.geom.len());
+        self.unit_model(alpha, gamma, &mut m)?;
+        Ok(self.proj.project(&m, &mut Vec::with_capacity(m.len())))
+    }
+
+    /// Reduced cost at search coordinates `x` (1, the zero model's cost, if the model is
+    /// invalid there; the clamped box makes that unreachable).
+    fn cost(&self, x: &[f64]) -> f64 {
+        let (alpha, gamma) = self.shape.params(x);
+        self.project(alpha, gamma).map_or(1.0, |p| p.cost)
+    }
+
+    /// Starting points: the grid points whose cost is below that of all grid neighbours, best
+    /// first, at most [`MAX_STARTS`].
+    fn starts(&self) -> Vec<Vec<f64>> {
+        let gammas: &[f64] = match &self.shape.gamma {
+            Gamma::Unused => &[f64::NAN],
+            Gamma::Fixed(g) => std::slice::from_ref(g),
+            Gamma::Free => &GAMMA_GRID,
+        };
+        let (na, ng) = (ALPHA_GRID.len(), gammas.len());
+        let costs: Vec<f64> = gammas
+            .iter()
+            .flat_map(|&g| ALPHA_GRID.iter().map(move |&a| (a, g)))
+            .map(|(a, g)| self.cost(&self.shape.coords(a, g)))
+            .collect();
+        let at = |i: usize, j: usize| costs[j * na + i];
+        let mut minima: Vec<(f64, usize, usize)> = Vec::new();
+        for j in 0..ng {
+            for i in 0..na {
+                let c = at(i, j);
+                let lower = |di: isize, dj: isize| {
+                    let (ii, jj) = (i as isize + di, j as isize + dj);
+                    if ii < 0 || jj < 0 || ii >= na as isize || jj >= ng as isize {
+                        false
+                    } else {
+                        at(ii as usize, jj as usize) < c
+                    }
+                };
+                if !(lower(-1, 0) || lower(1, 0) || lower(0, -1) || lower(0, 1)) {
+                    minima.push((c, i, j));
+                }
+            }
+        }
+        minima.sort_by(|a, b| a.0.total_cmp(&b.0));
+        minima
+            .iter()
+            .take(MAX_STARTS)
+            .map(|&(_, i, j)| self.shape.coords(ALPHA_GRID[i], gammas[j]))
+            .collect()
+    }
+}
+
+/// Fits one model to one sample.
+pub fn fit_sample(
+    sample: &Sample,
+    spec: ModelSpec,
+    opts: &FitOptions,
+) -> Result<FitResult, FitError> {
+    let shape = Shape::new(spec)?;
+    let prep = Prepared::new(sample, opts)?;
+    fit_prepared(&prep, shape, opts)
+}
+
+/// The four models of `--model all`, in this order: Beckmann, GGX, Student-T with gamma fixed
+/// at 3, Student-T with free gamma.
+pub fn all_models() -> [ModelSpec; 4] {
+    let spec = |kind, gamma_fixed| ModelSpec { kind, gamma_fixed };
+    [
+        spec(ModelKind::Beckmann, None),
+        spec(ModelKind::Ggx, None),
+        spec(ModelKind::StudentT, Some(3.0)),
+        spec(ModelKind::StudentT, None),
+    ]
+}
+
+/// Fits the four models of [`all_models`] to one sample.
+pub fn fit_all(sample: &Sample, opts: &FitOptions) -> Result<Vec<FitResult>, FitError> {
+    let prep = Prepared::new(sample, opts)?;
+    all_models()
+        .into_iter()
+        .map(|spec| fit_prepared(&prep, Shape::new(spec)?, opts))
+        .collect()
+}
+
+/// Model values `L` at `(theta_i_deg, theta_o_deg)` pairs in the data convention, for plots:
+/// the same numbers as [`ModelParams::l_single`], computed in one batch.
+pub fn predict(
+    params: &ModelParams,
+    angles: &[(f64, f64)],
+    opts: &FitOptions,
+) -> Result<Vec<f64>, FitError> {
+    if opts.scattering == Scattering::Multiple {
+        return Err(FitError::Unsupported(
+            "multiple-scattering predictions need the random-walk BSDF, not available yet".into(),
+        ));
+    }
+    Ok(params.l_single_batch(angles, opts.eta, opts.masking)?)
+}
+
+fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitResult, FitError> {
+    let sample = &prep.sample.name;
+    let n = prep.l.len();
+    let p = shape.dims() + 1;
+    if n < p + 1 {
+        return Err(FitError::TooFewPoints {
+            sample: sample.clone(),
+            n,
+            params: p,
+            needed: p + 1,
+        });
+    }
+    if prep.l.iter().all(|&l| l == 0.0) {
+        return Err(FitError::AllZero {
+            sample: sample.clone(),
+        });
+    }
+    let eval = Evaluator {
+        prep,
+        proj: Projected::new(opts.loss, &prep.l, &prep.w),
+        shape,
+        opts: *opts,
+    };
+
+    let mut best: Option<crate::optimize::Minimum> = None;
+    let mut iterations = 0;
+    let mut last_err = None;
+    for x0 in eval.starts() {
+        match minimize(|x| eval.cost(x), &x0, opts.optimizer) {
+            Ok(m) => {
+                iterations += m.iterations;
+                if best.as_ref().is_none_or(|b| m.cost < b.cost) {
+                    best = Some(m);
+                }
+            }
+            Err(e) => last_err = Some(e),
+        }
+    }
+    let best = best.ok_or_else(|| FitError::Optimizer {
+        sample: sample.clone(),
+        model: shape.kind.name(),
+        reason: last_err.map_or_else(|| "no starting point".into(), |e| e.to_string()),
+    })?;
+
+    let (alpha, gamma) = shape.params(&best.x);
+    let mut m = Vec::new();
+    eval.unit_model(alpha, gamma, &mut m)?;
+    let projection = eval.proj.project(&m, &mut Vec::new());
+    if m.iter().all(|&m| m == 0.0) {
+        return Err(FitError::NoSignal {
+            sample: sample.clone(),
+        });
+    }
+    let scale = eval.proj.scale_of(projection.amplitude);
+    let rmse_sqrt_l = (prep
+        .l
+        .iter()
+        .zip(&m)
+        .map(|(&l, &m)| (signed_sqrt(l) - (scale * m).sqrt()).powi(2))
+        .sum::<f64>()
+        / n as f64)
+        .sqrt();
+    let stderr = standard_errors(&eval, alpha, gamma, scale, &m)?;
+    let fitted_gamma = shape.kind == ModelKind::StudentT;
+    Ok(FitResult {
+        sample: sample.clone(),
+        model: shape.kind,
+        alpha,
+        gamma: fitted_gamma.then_some(gamma),
+        gamma_fixed: matches!(shape.gamma, Gamma::Fixed(_)),
+        scale,
+        rmse_sqrt_l,
+        n_points: n,
+        alpha_stderr: stderr[0],
+        gamma_stderr: fitted_gamma.then(|| {
+            if shape.gamma != Gamma::Free {
+                0.0
+            } else {
+                stderr[1]
+            }
+        }),
+        scale_stderr: stderr[stderr.len() - 1],
+        iterations,
+    })
+}
+
+/// Standard errors of `(alpha, [gamma], scale)` as in the module docs; `NaN` where the
+/// curvature does not determine a parameter.
+fn standard_errors(
+    eval: &Evaluator,
+    alpha: f64,
+    gamma: f64,
+    scale: f64,
+    m: &[f64],
+) -> Result<Vec<f64>, ParamError> {
+    let loss = eval.opts.loss;
+    let t = |x: f64| Projected::transform(loss, x);
+    let n = m.len();
+    let sw: Vec<f64> = eval.proj.w.iter().map(|w| w.sqrt()).collect();
+    let rss: f64 = (0..n)
+        .map(|j| (sw[j] * (eval.proj.y[j] - t(scale * m[j]))).powi(2))
+        .sum();
+
+    // Columns of J (up to sign): d T(scale m_j) / d theta_k, times sqrt(w_j).
+    let mut cols: Vec<Vec<f64>> = Vec::new();
+    let mut fd_column = |a_plus: (f64, f64), a_minus: (f64, f64), h2: f64| {
+        let (mut mp, mut mm) = (Vec::new(), Vec::new());
+        eval.unit_model(a_plus.0, a_plus.1, &mut mp)?;
+        eval.unit_model(a_minus.0, a_minus.1, &mut mm)?;
+        cols.push(
+            (0..n)
+                .map(|j| sw[j] * (t(scale * mp[j]) - t(scale * mm[j])) / h2)
+                .collect(),
+        );
+        Ok::<(), ParamError>(())
+    };
+    let ha = 1e-4 * alpha;
+    fd_column((alpha + ha, gamma), (alpha - ha, gamma), 2.0 * ha)?;
+    if eval.shape.gamma == Gamma::Free {
+        let hg = 1e-4 * (gamma - 1.5);
+        fd_column((alpha, gamma + hg), (alpha, gamma - hg), 2.0 * hg)?;
+    }
+    cols.push(
+        (0..n)
+            .map(|j| {
+                sw[j]
+                    * match loss {
+                        Loss::Sqrt => m[j].sqrt() / (2.0 * scale.sqrt()),
+                        Loss::Linear => m[j],
+                    }
+            })
+            .collect(),
+    );
+
+    let p = cols.len();
+    let jtj: Vec<Vec<f64>> = (0..p)
+        .map(|a| {
+            (0..p)
+                .map(|b| cols[a].iter().zip(&cols[b]).map(|(x, y)| x * y).sum())
+                .collect()
+        })
+        .collect();
+    let sigma2 = rss / (n - p) as f64;
+    Ok(match invert_spd(&jtj) {
+        Some(inv) => (0..p).map(|k| (sigma2 * inv[k][k]).sqrt()).collect(),
+        None => vec![f64::NAN; p],
+    })
+}
+
+/// Inverse of a small symmetric positive definite matrix by Gauss-Jordan elimination with
+/// partial pivoting, after scaling to unit diagonal; `None` if it is numerically singular.
+fn invert_spd(a: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
+    let p = a.len();
+    let d: Vec<f64> = (0..p).map(|i| a[i][i].sqrt()).collect();
+    if d.iter().any(|&d| !(d > 0.0 && d.is_finite())) {
+        return None;
+    }
+    // Work on the correlation-like matrix C = D^-1 A D^-1; A^-1 = D^-1 C^-1 D^-1.
+    let mut c: Vec<Vec<f64>> = (0..p)
+        .map(|i| (0..p).map(|j| a[i][j] / (d[i] * d[j])).collect())
+        .collect();
+    let mut inv: Vec<Vec<f64>> = (0..p)
+        .map(|i| (0..p).map(|j| if i == j { 1.0 } else { 0.0 }).collect())
+        .collect();
+    for col in 0..p {
+        let piv = (col..p).max_by(|&x, &y| c[x][col].abs().total_cmp(&c[y][col].abs()))?;
+        let pivot = c[piv][col].abs();
+        if pivot.is_nan() || pivot <= 1e-12 {
+            return None;
+        }
+        c.swap(col, piv);
+        inv.swap(col, piv);
+        let f = c[col][col];
+        for k in 0..p {
+            c[col][k] /= f;
+            inv[col][k] /= f;
+        }
+        for r in 0..p {
+            if r != col {
+                let g = c[r][col];
+                for k in 0..p {
+                    c[r][k] -= g * c[col][k];
+                    inv[r][k] -= g * inv[col][k];
+                }
+            }
+        }
+    }
+    Some(
+        (0..p)
+            .map(|i| (0..p).map(|j| inv[i][j] / (d[i] * d[j])).collect())
+            .collect(),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn invert_spd_inverts() {
+        let a = vec![
+            vec![4.0, 1.0, 0.5],
+            vec![1.0, 3.0, 0.2],
+            vec![0.5, 0.2, 2.0],
+        ];
+        let inv = invert_spd(&a).unwrap();
+        for (i, row) in a.iter().enumerate() {
+            for j in 0..3 {
+                let e: f64 = row.iter().zip(&inv).map(|(x, r)| x * r[j]).sum();
+                assert!((e - if i == j { 1.0 } else { 0.0 }).abs() < 1e-12);
+            }
+        }
+        assert!(invert_spd(&[vec![1.0, 1.0], vec![1.0, 1.0]]).is_none());
+    }
+}

@@ -1,0 +1,152 @@
+//! Invalid inputs give typed errors, never panics.
+
+mod common;
+
+use stfit_core::ParamError;
+use stfit_fit::fit::{FitError, fit_all, fit_sample, predict};
+use stfit_fit::{FitOptions, Measurement, ModelKind, ModelParams, ModelSpec, Sample, Scattering};
+
+fn sample(points: Vec<Measurement>) -> Sample {
+    Sample {
+        name: "test".into(),
+        points,
+    }
+}
+
+fn point(theta_i_deg: f64, theta_o_deg: f64, l: f64) -> Measurement {
+    Measurement {
+        theta_i_deg,
+        theta_o_deg,
+        l,
+        weight: 1.0,
+    }
+}
+
+fn spec(kind: ModelKind, gamma_fixed: Option<f64>) -> ModelSpec {
+    ModelSpec { kind, gamma_fixed }
+}
+
+fn good() -> Sample {
+    common::synthetic(
+        &ModelParams {
+            kind: ModelKind::Ggx,
+            alpha: 0.3,
+            gamma: f64::NAN,
+            scale: 1.0,
+        },
+        0.0,
+        1,
+    )
+}
+
+#[test]
+fn empty_sample_is_too_few_points() {
+    let opts = FitOptions::default();
+    let e = fit_sample(&sample(vec![]), spec(ModelKind::Ggx, None), &opts).unwrap_err();
+    assert!(matches!(e, FitError::TooFewPoints { n: 0, .. }), "{e}");
+    assert!(matches!(
+        fit_all(&sample(vec![]), &opts),
+        Err(FitError::TooFewPoints { .. })
+    ));
+    // Two points cannot fit alpha and scale with a residual degree of freedom.
+    let two = sample(vec![point(0.0, 180.0, 1.0), point(0.0, 170.0, 0.5)]);
+    assert!(matches!(
+        fit_sample(&two, spec(ModelKind::Ggx, None), &opts),
+        Err(FitError::TooFewPoints {
+            n: 2,
+            needed: 3,
+            ..
+        })
+    ));
+}
+
+#[test]
+fn all_zero_data_is_rejected() {
+    let mut s = good();
+    s.points.iter_mut().for_each(|p| p.l = 0.0);
+    for kind in [ModelKind::Beckmann, ModelKind::Ggx, ModelKind::StudentT] {
+        let e = fit_sample(&s, spec(kind, None), &FitOptions::default()).unwrap_err();
+        assert!(matches!(e, FitError::AllZero { .. }), "{e}");
+    }
+}
+
+#[test]
+fn invalid_gamma_is_rejected() {
+    let s = good();
+    let opts = FitOptions::default();
+    for g in [1.5, 1.0, -3.0, f64::NAN, f64::INFINITY] {
+        let e = fit_sample(&s, spec(ModelKind::StudentT, Some(g)), &opts).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                FitError::InvalidParameter(ParamError::Gamma(_) | ParamError::NonFinite { .. })
+            ),
+            "gamma {g}: {e}"
+        );
+    }
+    let e = fit_sample(&s, spec(ModelKind::Ggx, Some(3.0)), &opts).unwrap_err();
+    assert!(matches!(e, FitError::InvalidSpec(_)), "{e}");
+}
+
+#[test]
+fn invalid_points_and_options_are_rejected() {
+    let ggx = spec(ModelKind::Ggx, None);
+    let opts = FitOptions::default();
+    for bad in [
+        point(f64::NAN, 180.0, 1.0),
+        point(95.0, 180.0, 1.0),
+        point(0.0, 45.0, 1.0),
+        point(0.0, 180.0, f64::INFINITY),
+        Measurement {
+            weight: -1.0,
+            ..point(0.0, 180.0, 1.0)
+        },
+    ] {
+        let mut s = good();
+        s.points.push(bad);
+        let e = fit_sample(&s, ggx, &opts).unwrap_err();
+        assert!(
+            matches!(e, FitError::InvalidData { index: 300, .. }),
+            "{bad:?}: {e}"
+        );
+    }
+    for eta in [1.0, 0.0, -1.5, f64::NAN] {
+        let o = FitOptions { eta, ..opts };
+        let e = fit_sample(&good(), ggx, &o).unwrap_err();
+        assert!(matches!(e, FitError::InvalidParameter(_)), "eta {eta}: {e}");
+    }
+    let multiple = FitOptions {
+        scattering: Scattering::Multiple,
+        ..opts
+    };
+    assert!(matches!(
+        fit_sample(&good(), ggx, &multiple),
+        Err(FitError::Unsupported(_))
+    ));
+    let params = ModelParams {
+        kind: ModelKind::StudentT,
+        alpha: 0.3,
+        gamma: 1.2,
+        scale: 1.0,
+    };
+    assert!(matches!(
+        predict(&params, &[(0.0, 180.0)], &opts),
+        Err(FitError::InvalidParameter(ParamError::Gamma(_)))
+    ));
+}
+
+#[test]
+fn zero_weight_points_are_ignored() {
+    let mut s = good();
+    // A wild point with zero weight changes nothing.
+    s.points.push(Measurement {
+        weight: 0.0,
+        ..point(0.0, 180.0, 1e6)
+    });
+    let r = fit_sample(&s, spec(ModelKind::Ggx, None), &FitOptions::default()).unwrap();
+    assert_eq!(r.n_points, 300);
+    assert!(
+        (r.alpha - 0.3).abs() < 1e-6 && (r.scale - 1.0).abs() < 1e-6,
+        "{r:?}"
+    );
+}

@@ -1,0 +1,99 @@
+//! Nelder-Mead and L-BFGS reach the same optimum, under both losses.
+
+mod common;
+
+use stfit_fit::fit::fit_sample;
+use stfit_fit::{FitOptions, FitResult, Loss, ModelKind, ModelParams, ModelSpec, Optimizer};
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+/// The minimised loss of a fit, recomputed from the fitted model (weights are 1).
+fn loss_of(r: &FitResult, sample: &stfit_fit::Sample, loss: Loss) -> f64 {
+    let params = ModelParams {
+        kind: r.model,
+        alpha: r.alpha,
+        gamma: r.gamma.unwrap_or(f64::NAN),
+        scale: r.scale,
+    };
+    let angles: Vec<(f64, f64)> = sample
+        .points
+        .iter()
+        .map(|p| (p.theta_i_deg, p.theta_o_deg))
+        .collect();
+    let opts = FitOptions::default();
+    let model = params
+        .l_single_batch(&angles, opts.eta, opts.masking)
+        .unwrap();
+    let t = |x: f64| match loss {
+        Loss::Sqrt => x.sqrt(),
+        Loss::Linear => x,
+    };
+    sample
+        .points
+        .iter()
+        .zip(&model)
+        .map(|(p, &m)| (t(p.l) - t(m)).powi(2))
+        .sum()
+}
+
+#[test]
+fn nelder_mead_and_lbfgs_agree() {
+    let mut samples = common::walter_samples();
+    samples.push(common::synthetic(
+        &ModelParams {
+            kind: ModelKind::StudentT,
+            alpha: 0.25,
+            gamma: 2.4,
+            scale: 1.5,
+        },
+        0.03,
+        7,
+    ));
+    let specs = [
+        (ModelKind::Beckmann, None),
+        (ModelKind::Ggx, None),
+        (ModelKind::StudentT, Some(3.0)),
+        (ModelKind::StudentT, None),
+    ];
+    for sample in &samples {
+        for loss in [Loss::Sqrt, Loss::Linear] {
+            for (kind, gamma_fixed) in specs {
+                let spec = ModelSpec { kind, gamma_fixed };
+                let fit = |optimizer| {
+                    let opts = FitOptions {
+                        loss,
+                        optimizer,
+                        ..FitOptions::default()
+                    };
+                    fit_sample(sample, spec, &opts).unwrap()
+                };
+                let (nm, lb) = (fit(Optimizer::NelderMead), fit(Optimizer::Lbfgs));
+                let (ln, ll) = (loss_of(&nm, sample, loss), loss_of(&lb, sample, loss));
+                println!(
+                    "{} {loss:?} {} gamma_fixed {gamma_fixed:?}: NM alpha {:.6} gamma {:?} \
+                     scale {:.6} loss {ln:.10e} ({} it) | L-BFGS alpha {:.6} gamma {:?} \
+                     scale {:.6} loss {ll:.10e} ({} it)",
+                    sample.name,
+                    kind.name(),
+                    nm.alpha,
+                    nm.gamma,
+                    nm.scale,
+                    nm.iterations,
+                    lb.alpha,
+                    lb.gamma,
+                    lb.scale,
+                    lb.iterations
+                );
+                let ctx = format!("{} {loss:?} {kind:?} {gamma_fixed:?}", sample.name);
+                assert!(rel(nm.alpha, lb.alpha) < 1e-3, "{ctx}: alpha");
+                assert!(rel(nm.scale, lb.scale) < 1e-3, "{ctx}: scale");
+                if let (Some(a), Some(b)) = (nm.gamma, lb.gamma) {
+                    assert!(rel(a, b) < 1e-3, "{ctx}: gamma");
+                }
+                assert!(rel(ln, ll) < 1e-8, "{ctx}: loss {ln} vs {ll}");
+            }
+        }
+    }
+}
