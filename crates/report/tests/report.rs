@@ -577,3 +577,19 @@ fn stored_fits_round_trip_every_float_exactly() {
     let json = serde_json::to_string(&stfit_report::FitsFile { fits: many.clone() }).unwrap();
     assert_eq!(read_fits_json(&json).unwrap(), many);
 }
+
+#[test]
+fn fits_of_the_fitting_engine_are_reproduced_without_warnings() {
+    // The report's rmse, recomputed from the data and the fitted parameters, agrees with the
+    // one the fitting engine stores, so its model curves are the fitted ones.
+    let data = dataset();
+    let mut all = Vec::new();
+    for s in &data.samples {
+        all.extend(stfit_fit::fit_all(s, &stfit_fit::FitOptions::default()).unwrap());
+    }
+    assert_eq!(all.len(), 8);
+    let report = render_report(&data, &all, &ReportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let fig = svg(&report, "ground_glass-fits.svg");
+    assert_eq!(fig.matches("not fitted").count(), 0);
+}
