@@ -35,13 +35,17 @@ pub fn fits_markdown(
 ) -> String {
     let mut md = String::new();
     md.push_str("# Fits\n\n");
+    let masking = match opts.masking {
+        stfit_core::bsdf::Masking::Separable => "separable",
+        stfit_core::bsdf::Masking::Correlated => "height-correlated",
+    };
     let _ = writeln!(
         md,
-        "Single-scattering rough-dielectric BTDF (Walter et al. 2007), eta = {}, {:?} masking. \
-         `L = scale * f_t * cos(theta_i) / eta^2`; rmse is of sqrt(L) over all points of the \
-         sample; ± gives standard errors. Figures plot {}.\n",
-        fmt_sig(opts.eta, 4),
-        opts.masking,
+        "Single-scattering rough-dielectric BTDF (Walter et al. 2007), eta = {}, {masking} \
+         masking: `L = scale * f_t * cos(theta_i) / eta^2`. rmse is of sqrt(L) over the points \
+         of weight > 0 (the fitted points); ± gives standard errors; the lowest rmse of each \
+         sample is in bold. Figures plot {}.\n",
+        opts.eta,
         match opts.y_scale {
             YScale::Sqrt => "sqrt(L)",
             YScale::Linear => "L",
