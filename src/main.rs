@@ -1,5 +1,53 @@
-//! The `stfit` command line.
+//! The `stfit` command line: `stfit DATA [flags]` fits microfacet models to measured
+//! transmission through rough glass; subcommands do the rest. Each subcommand is one variant of
+//! [`Command`] and one module under `cmd/` with an `Args` struct and a `run` function.
 
-fn main() {
-    println!("stfit {}", env!("CARGO_PKG_VERSION"));
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod cmd;
+
+/// Fit microfacet models (Beckmann, GGX, Student-T) to measured transmission through rough
+/// glass.
+///
+/// Without a subcommand, fits the models to every sample of DATA (see data-format.md) and
+/// prints a table (or JSON with --json).
+#[derive(Debug, Parser)]
+#[command(
+    name = "stfit",
+    version,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
+)]
+struct Cli {
+    #[command(flatten)]
+    fit: cmd::fit::FitArgs,
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Write synthetic measurements of a known model in the data format.
+    Synth(cmd::synth::SynthArgs),
+    /// Evaluate the single-scattering rough dielectric BSDF (f * |wo.z|) for directions read
+    /// as CSV on stdin.
+    Eval(cmd::eval::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => cmd::fit::run(cli.fit),
+        Some(Command::Synth(args)) => cmd::synth::run(args),
+        Some(Command::Eval(args)) => cmd::eval::run(&args).map_err(cmd::CmdError::Failed),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(e.exit_code())
+        }
+    }
 }

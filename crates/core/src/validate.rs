@@ -20,6 +20,30 @@
 //! `1/sqrt(expected count)` resolution of the test.
 //!
 //! [`integrate_sphere`] integrates a density over the whole sphere (normalisation checks).
+//!
+//! Densities with a kink or a step along great circles (a visible-normal density has both:
+//! `max(0, w.wm)` and the horizon) should declare them as `cuts` (the circles' normals); the
+//! quadrature then splits there, which keeps it fast and accurate.
+//!
+//! ```
+//! use rand::SeedableRng;
+//! use stfit_core::Vec3;
+//! use stfit_core::math::spherical_direction;
+//! use stfit_core::ndf::{Ggx, Ndf};
+//! use stfit_core::validate::{SphereBins, bonferroni, chi_square, integrate_sphere};
+//!
+//! let ndf = Ggx::new(0.3).unwrap();
+//! let w = spherical_direction(1.0, 0.2);
+//! let density = |wm: Vec3| ndf.d_visible(w, wm);
+//! let cuts = [w, Vec3::z()];
+//! assert!((integrate_sphere(Vec3::z(), density, &cuts) - 1.0).abs() < 1e-9);
+//!
+//! let mut rng = rand_pcg::Pcg64::seed_from_u64(1);
+//! let samples: Vec<Vec3> = (0..20_000).map(|_| ndf.sample_visible(w, &mut rng)).collect();
+//! let bins = SphereBins::equal_mass(Vec3::z(), 12, 12, density);
+//! let result = chi_square(&bins, &samples, density, &cuts);
+//! assert!(result.passes(bonferroni(0.01, 1)), "{result}");
+//! ```
 
 use crate::math::{Frame, Vec3};
 use rayon::prelude::*;

@@ -52,7 +52,7 @@ fn d_is_normalised_by_projected_area() {
     for &alpha in &ALPHAS {
         for ndf in ndfs(alpha) {
             let i = integrate_sphere(Vec3::z(), |wm| ndf.d(wm) * wm.z.max(0.0), &[]);
-            assert!((i - 1.0).abs() < 1e-8, "{ndf:?}: integral {i}");
+            assert!((i - 1.0).abs() < 1e-10, "{ndf:?}: integral {i}");
             worst = worst.max((i - 1.0).abs());
         }
     }
@@ -66,7 +66,7 @@ fn sigma_difference_is_cos_theta() {
         for ndf in ndfs(alpha) {
             for _ in 0..200 {
                 let z: f64 = 2.0 * rng.random::<f64>() - 1.0;
-                let w = spherical_direction(z.acos(), 6.283 * rng.random::<f64>());
+                let w = spherical_direction(z.acos(), std::f64::consts::TAU * rng.random::<f64>());
                 let d = ndf.sigma(w) - ndf.sigma(-w);
                 assert!((d - w.z).abs() < 1e-13, "{ndf:?} {w:?}: {d} vs {}", w.z);
             }
@@ -130,7 +130,7 @@ fn lambda_equals_integral_of_slope_distribution() {
                 let l = ndf.lambda(w);
                 let e = rel(l, q);
                 worst = worst.max(e);
-                assert!(e < 1e-6, "{ndf:?} mu {mu}: Lambda {l} vs integral {q}");
+                assert!(e < 1e-10, "{ndf:?} mu {mu}: Lambda {l} vs integral {q}");
             }
         }
     }
@@ -139,7 +139,18 @@ fn lambda_equals_integral_of_slope_distribution() {
 
 fn directions() -> Vec<Vec3> {
     let mut v: Vec<Vec3> = [
-        1e-6, 1e-3, 0.1, 0.5, 1.0, 1.3, 1.5, 1.57, 1.5707, 1.6, 2.0, 2.8,
+        1e-6,
+        1e-3,
+        0.1,
+        0.5,
+        1.0,
+        1.3,
+        1.5,
+        1.57,
+        std::f64::consts::FRAC_PI_2 - 1e-4,
+        1.6,
+        2.0,
+        2.8,
     ]
     .iter()
     .map(|&t| spherical_direction(t, 0.4))
@@ -175,7 +186,10 @@ fn student_t_tends_to_beckmann() {
         let b = Beckmann::new(alpha).unwrap();
         let peak = b.d(Vec3::z());
         for i in 0..2000 {
-            let wm = spherical_direction(1.5707 * i as f64 / 2000.0, 0.0);
+            let wm = spherical_direction(
+                (std::f64::consts::FRAC_PI_2 - 1e-4) * i as f64 / 2000.0,
+                0.0,
+            );
             let (ds, db) = (st.d(wm), b.d(wm));
             // The exact leading-order gap: ln(D_ST / D_B) = (x^2/2 - x) / (g - 1) + O(g^-2),
             // x = tan^2 / alpha^2. It passes 1e-3 at x = 5.6 and reaches about 2.4e-3 on the
@@ -198,7 +212,7 @@ fn student_t_tends_to_beckmann() {
         // the tails differ by more than 1e-3 relative (5e-3 at Lambda_B = 1e-6): a property of
         // the distributions, checked to be exact by the Gamma-average test.
         for i in 1..2000 {
-            let w = spherical_direction(3.1415 * i as f64 / 2000.0, 0.0);
+            let w = spherical_direction((std::f64::consts::PI - 1e-4) * i as f64 / 2000.0, 0.0);
             let (ls, lb) = (st.lambda(w), b.lambda(w));
             if w.z > 0.0 && lb > 1e-3 {
                 assert!(rel(ls, lb) < 1e-3, "Lambda at {w:?}: {ls} vs {lb}");
@@ -216,7 +230,14 @@ fn student_t_lambda_is_gamma_average_of_beckmann() {
     for &alpha in &[0.05, 0.45, 2.0] {
         for &g in &[1.6, 2.0, 3.0, 10.0, 40.0, 1e4] {
             let st = StudentT::new(alpha, g).unwrap();
-            for theta in [1e-3, 0.02, 0.3, 1.0, 1.5, 1.5707] {
+            for theta in [
+                1e-3,
+                0.02,
+                0.3,
+                1.0,
+                1.5,
+                std::f64::consts::FRAC_PI_2 - 1e-4,
+            ] {
                 let w = spherical_direction(theta, 0.0);
                 // alpha_m from t = ln m directly, so that tiny m do not overflow.
                 let lb = |t: f64| {

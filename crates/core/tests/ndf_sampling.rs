@@ -109,3 +109,57 @@ fn visible_normal_samplers_match_d_visible() {
         failures.join("\n")
     );
 }
+
+/// Extreme parameters and directions: samples stay finite unit vectors on the visible side.
+#[test]
+fn samplers_are_robust_at_extremes() {
+    let ndfs: Vec<AnyNdf> = vec![
+        Beckmann::new(1e-4).unwrap().into(),
+        Beckmann::new(50.0).unwrap().into(),
+        Ggx::new(1e-4).unwrap().into(),
+        Ggx::new(50.0).unwrap().into(),
+        StudentT::new(0.3, 1.5 + 1e-6).unwrap().into(),
+        StudentT::new(1e-4, 1.7).unwrap().into(),
+        StudentT::new(50.0, 3.0).unwrap().into(),
+        StudentT::new(0.3, 1e4).unwrap().into(),
+    ];
+    // Just above and just below the horizon, and just short of straight down.
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let mut dirs: Vec<Vec3> = [
+        0.0,
+        1e-9,
+        0.5,
+        FRAC_PI_2 - 1e-4,
+        FRAC_PI_2 + 1e-4,
+        1.6,
+        2.5,
+        PI - 1e-4,
+    ]
+    .iter()
+    .map(|&t| spherical_direction(t, 2.0))
+    .collect();
+    dirs.push(Vec3::new(1.0, 0.0, 0.0));
+    let mut rng = Pcg64::seed_from_u64(99);
+    for ndf in &ndfs {
+        for &w in &dirs {
+            let sigma = ndf.sigma(w);
+            for _ in 0..2000 {
+                let wm = ndf.sample_visible(w, &mut rng);
+                assert!(
+                    wm.iter().all(|c| c.is_finite()) && (wm.norm() - 1.0).abs() < 1e-12,
+                    "{ndf:?} w {w:?}: {wm:?}"
+                );
+                assert!(wm.z > 0.0, "{ndf:?} w {w:?}: {wm:?}");
+                if sigma > 1e-12 {
+                    assert!(wm.dot(&w) > 0.0, "{ndf:?} w {w:?}: {wm:?}");
+                }
+            }
+        }
+    }
+    // Nothing is visible from straight below: a defined fallback, no panic.
+    let z = Vec3::z();
+    for ndf in &ndfs {
+        assert_eq!(ndf.sigma(-z), 0.0);
+        assert_eq!(ndf.sample_visible(-z, &mut rng), z);
+    }
+}

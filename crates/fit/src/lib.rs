@@ -11,12 +11,16 @@
 
 pub mod data;
 pub mod fit;
+pub mod load;
 pub mod model;
 pub mod objective;
 mod optimize;
+pub mod synth;
 
 pub use data::{Dataset, Measurement, Sample};
 pub use fit::{FitError, fit_all, fit_sample};
+pub use load::{LoadError, LoadErrorKind, load_path};
 pub use model::{
     FitOptions, FitResult, Loss, ModelKind, ModelParams, ModelSpec, Optimizer, Scattering,
 };
+pub use synth::{SynthError, SynthSpec};

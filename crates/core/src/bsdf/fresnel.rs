@@ -1,5 +1,7 @@
 //! Fresnel reflectance.
 
+use nalgebra::Complex;
+
 /// Exact unpolarised Fresnel reflectance of a smooth dielectric interface.
 ///
 /// `cos_i` is the cosine between the incident direction (pointing away from the interface)
@@ -21,4 +23,27 @@ pub fn fresnel_dielectric(cos_i: f64, eta: f64) -> f64 {
     let rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
     let rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     0.5 * (rs * rs + rp * rp)
+}
+
+/// Exact unpolarised Fresnel reflectance of a smooth conductor, relative complex index
+/// `eta = n + i k` (the metal's index over the outside medium's).
+///
+/// `cos_i` is the cosine between the incident direction and the interface normal; conductors
+/// are two-sided, so its sign is ignored. The transmitted cosine is the principal complex
+/// square root of `1 - sin^2 theta_i / eta^2` (pbrt-v4 `FrComplex`). With `k = 0` this equals
+/// [`fresnel_dielectric`].
+pub fn fresnel_conductor(cos_i: f64, eta: Complex<f64>) -> f64 {
+    let cos_i = cos_i.abs().min(1.0);
+    if cos_i == 0.0 {
+        // Both amplitudes are -1 at grazing incidence; the formulas below would give 0/0 for
+        // a real index of 1.
+        return 1.0;
+    }
+    let sin2_i = 1.0 - cos_i * cos_i;
+    let sin2_t = Complex::new(sin2_i, 0.0) / (eta * eta);
+    let cos_t = (Complex::new(1.0, 0.0) - sin2_t).sqrt();
+    let ci = Complex::new(cos_i, 0.0);
+    let r_parallel = (eta * ci - cos_t) / (eta * ci + cos_t);
+    let r_perpendicular = (ci - eta * cos_t) / (ci + eta * cos_t);
+    (0.5 * (r_parallel.norm_sqr() + r_perpendicular.norm_sqr())).min(1.0)
 }

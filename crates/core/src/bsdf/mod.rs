@@ -3,12 +3,32 @@
 //! Convention: z > 0 is the outside (index 1), z < 0 the inside (index `eta`, which may be
 //! above or below 1). `eval(wi, wo)` returns `f(wi, wo) |wo.z|` with no radiance `1/eta^2`
 //! scaling (importance transport, as Mitsuba's importance mode).
+//!
+//! - Smooth facets: [`SmoothDielectric`], [`SmoothConductor`] (delta lobes, reported by
+//!   [`BsdfSample::delta`]; their `eval` and `pdf` are zero).
+//! - [`Lambertian`] reflection.
+//! - Microfacet models generic over the NDF, with [`Masking`] chosen per instance:
+//!   [`RoughDielectric`] (Walter et al. 2007) and [`RoughConductor`]. They sample visible
+//!   normals from the side of `wi`; the weight is `G / G1(wi)` times the Fresnel factor the
+//!   lobe choice did not absorb.
+//!
+//! Conductors and the Lambertian are two-sided: light from below reflects below.
 
 mod fresnel;
+mod lambertian;
+mod microfacet;
+mod rough_conductor;
 mod rough_dielectric;
+mod smooth_conductor;
+mod smooth_dielectric;
 
-pub use fresnel::fresnel_dielectric;
-pub use rough_dielectric::{Masking, RoughDielectric};
+pub use fresnel::{fresnel_conductor, fresnel_dielectric};
+pub use lambertian::Lambertian;
+pub use microfacet::{Masking, reflect, refract};
+pub use rough_conductor::RoughConductor;
+pub use rough_dielectric::RoughDielectric;
+pub use smooth_conductor::SmoothConductor;
+pub use smooth_dielectric::SmoothDielectric;
 
 use crate::math::Vec3;
 use rand::Rng;

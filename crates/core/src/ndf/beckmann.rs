@@ -103,8 +103,15 @@ pub(crate) fn sample_visible_beckmann<R: Rng + ?Sized>(
     } else {
         (1.0, 0.0)
     };
-    // Facet normal (-alpha * slope, 1) / norm, written as (-slope, 1/alpha) / norm.
-    let m = Vec3::new(-(cp * x - sp * y), -(sp * x + cp * y), inv_alpha);
+    // Facet normal (-alpha * slope, 1) / norm, written as (-slope, 1/alpha) / norm. For
+    // astronomically rough mixture components (Student-T with gamma within ~1e-3 of 3/2)
+    // 1/alpha can underflow: the normal is then horizontal to within 1e-300 and is kept on
+    // the upper side.
+    let m = Vec3::new(
+        -(cp * x - sp * y),
+        -(sp * x + cp * y),
+        inv_alpha.max(f64::MIN_POSITIVE),
+    );
     m / m.norm()
 }
 
@@ -125,32 +132,39 @@ pub(crate) fn visible_slope_x(a: f64, u: f64) -> f64 {
 }
 
 /// `ln G(x)`, `(ln G)'(x)` for `G(x) = exp(-x^2)/2 + a sqrt(pi)/2 erfc(-x)`, `a >= 0`: the
-/// unnormalised CDF of the visible x-slope (`G' = (a - x) exp(-x^2)`).
+/// unnormalised CDF of the visible x-slope (`G' = (a - x) exp(-x^2)`). Both terms are
+/// positive, so `G` is formed directly down to `x = -5`; further left it is scaled by
+/// `exp(-x^2)` (with `erfcx`) so that nothing underflows.
 #[inline]
 fn ln_cdf_above(a: f64, x: f64) -> (f64, f64) {
-    if x <= 0.0 {
+    if x >= -5.0 {
+        let e = (-x * x).exp();
+        let g = 0.5 * e + 0.5 * a * SQRT_PI * erfc(-x);
+        (g.ln(), (a - x) * e / g)
+    } else {
         let b = 1.0 + a * SQRT_PI * erfcx(-x);
         (-x * x + (0.5 * b).ln(), 2.0 * (a - x) / b)
-    } else {
-        let e = (-x * x).exp();
-        let g = 0.5 * e + 0.5 * a * SQRT_PI * (1.0 + erf(x));
-        (g.ln(), (a - x) * e / g)
     }
 }
 
-/// Halley's step for `h = 0` with `h' = d1` and `h'' = d1 * dlp - d1^2`, where `dlp` is the
-/// log-derivative of the density; falls back to Newton where the Halley denominator is unsafe.
-/// Returns the step and the relative step size below which the next iterate is converged to
-/// rounding (Halley is cubic, Newton quadratic).
+/// Halley's step for `h = 0` with derivatives `d1 = h'`, `d2 = h''`; falls back to Newton
+/// where the Halley denominator is unsafe. Returns the step and the relative step size below
+/// which the next iterate is converged to rounding (Halley is cubic, Newton quadratic).
 #[inline]
-fn halley_step(h: f64, d1: f64, dlp: f64) -> (f64, f64) {
-    let d2 = d1 * dlp - d1 * d1;
+fn halley_step(h: f64, d1: f64, d2: f64) -> (f64, f64) {
     let den = 2.0 * d1 * d1 - h * d2;
     if den > d1 * d1 {
         (2.0 * h * d1 / den, 1e-6)
     } else {
         (h / d1, 1e-9)
     }
+}
+
+/// `G(x) = exp(-x^2)/2 + a sqrt(pi)/2 erfc(-x)` and `exp(-x^2)`, for `x >= -5`, `a >= 0`.
+#[inline]
+fn cdf_above(a: f64, x: f64) -> (f64, f64) {
+    let e = (-x * x).exp();
+    (0.5 * e + 0.5 * a * SQRT_PI * erfc(-x), e)
 }
 
 /// Quantile `u` of the x-slope for `a >= 0`: solves `ln G(x) = ln u + ln G(a)` on
@@ -160,20 +174,36 @@ fn halley_step(h: f64, d1: f64, dlp: f64) -> (f64, f64) {
 /// density), so the iteration cannot wander.
 fn slope_above(a: f64, u: f64) -> f64 {
     let ln_u = u.ln();
-    let target = ln_u + ln_cdf_above(a, a).0;
     let mut lo = -(-ln_u).sqrt();
     let mut hi = a;
     let mut x = lo;
     if a > 0.5 {
+        // For large a the density is close to a Gaussian shifted by -1/(2a):
+        // (a - x) exp(-x^2) ~ a exp(-x^2 - x/a). The unshifted quantile is an upper bound.
         let xg = statrs::function::erf::erf_inv(2.0 * u - 1.0);
         if xg < hi {
             hi = xg.max(lo);
-            x = hi;
         }
+        x = (xg - 0.5 / a).clamp(lo, hi);
     }
+    // In the bulk (u >= 1e-6, so x >= lo > -3.8) solve G(x) = u G(a) directly; in the far
+    // left tail solve in ln G, where nothing underflows.
+    let linear = u >= 1e-6;
+    let target = if linear {
+        u * cdf_above(a, a).0
+    } else {
+        ln_u + ln_cdf_above(a, a).0
+    };
     for _ in 0..100 {
-        let (lg, d1) = ln_cdf_above(a, x);
-        let h = lg - target;
+        let dlp = -1.0 / (a - x) - 2.0 * x;
+        let (h, d1, d2) = if linear {
+            let (g, e) = cdf_above(a, x);
+            let d1 = (a - x) * e;
+            (g - target, d1, d1 * dlp)
+        } else {
+            let (lg, d1) = ln_cdf_above(a, x);
+            (lg - target, d1, d1 * dlp - d1 * d1)
+        };
         if h == 0.0 {
             return x;
         }
@@ -182,8 +212,7 @@ fn slope_above(a: f64, u: f64) -> f64 {
         } else {
             lo = x;
         }
-        let dlp = -1.0 / (a - x) - 2.0 * x;
-        let (step, done) = halley_step(h, d1, dlp);
+        let (step, done) = halley_step(h, d1, d2);
         let xn = x - step;
         if !(xn > lo && xn < hi) {
             x = 0.5 * (lo + hi);
@@ -225,7 +254,7 @@ fn slope_below(n: f64, u: f64) -> f64 {
         }
         let d1 = -2.0 * y * v / b;
         let dlp = 1.0 / y - 2.0 * v;
-        let (step, done) = halley_step(h, d1, dlp);
+        let (step, done) = halley_step(h, d1, d1 * dlp - d1 * d1);
         let yn = y - step;
         if !(yn > lo && yn < hi) {
             y = 0.5 * (lo + hi);
@@ -262,9 +291,56 @@ impl Ndf for Beckmann {
         sigma_beckmann(c, s, self.alpha)
     }
 
-    /// Exact: stretched visible-slope CDF inversion ([`visible_slope_x`]), valid on the whole
-    /// sphere including below the horizon.
+    /// Exact: stretch to alpha = 1, invert the CDF of the visible x-slope (density
+    /// proportional to `(a - x)_+ exp(-x^2)`, `a = cot theta'`) by safeguarded Halley
+    /// iteration between exact bounds, draw the y-slope from `N(0, 1/2)`, rotate to the
+    /// azimuth of `w` and unstretch. Valid on the whole sphere including below the horizon
+    /// (there the inversion runs in the distance `a - x` with `erfcx`, so far tails neither
+    /// cancel nor underflow). Returns `+z` for `w = -z`, where nothing is visible.
     fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3 {
         sample_visible_beckmann(w, self.inv_alpha, rng)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Composite Simpson rule of `f` over `(lo, hi)` with `n` (even) intervals.
+    fn simpson(f: impl Fn(f64) -> f64, lo: f64, hi: f64, n: usize) -> f64 {
+        let h = (hi - lo) / n as f64;
+        let inner: f64 = (1..n)
+            .map(|i| f(lo + i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 })
+            .sum();
+        (f(lo) + inner + f(hi)) * h / 3.0
+    }
+
+    /// The quantile function inverts an independently integrated CDF, from far below the
+    /// horizon (a = -1e3) to almost normal incidence (a = 1e8), deep into both tails.
+    #[test]
+    fn visible_slope_quantiles_invert_the_integrated_cdf() {
+        for a in [-1e3, -30.0, -3.0, -0.1, 0.0, 0.2, 1.28, 3.0, 1e3, 1e8] {
+            for u in [1e-12, 1e-4, 0.01, 0.3, 0.5, 0.9, 0.9999, 1.0 - 1e-9] {
+                let x = visible_slope_x(a, u);
+                assert!(x < a, "a {a} u {u}: x {x} not visible");
+                // CDF(x) by quadrature, in the distance y = a - x >= 0 for a < 0 (density
+                // y exp(-y^2 - 2|a| y), shifted exponent) and in x for a >= 0.
+                let cdf = if a < 0.0 {
+                    let n = -a;
+                    let p = |y: f64| y * (-y * y - 2.0 * n * y).exp();
+                    let scale = 1.0 / (1.0 + n);
+                    let top = 40.0 * scale;
+                    let total = simpson(p, 0.0, top, 200_000);
+                    simpson(p, a - x, top, 200_000) / total
+                } else {
+                    let p = |t: f64| (a - t) * (-t * t).exp();
+                    let top = a.min(40.0);
+                    let total = simpson(p, -40.0, top, 400_000);
+                    simpson(p, -40.0, x.min(top), 400_000) / total
+                };
+                let tol = 1e-8 * u.min(1.0 - u) + 1e-13;
+                assert!((cdf - u).abs() < tol, "a {a} u {u}: x {x}, CDF {cdf}");
+            }
+        }
     }
 }

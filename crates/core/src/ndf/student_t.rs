@@ -96,7 +96,11 @@ impl StudentT {
         let f = self.t_norm * (-0.5 * (nu + 1.0) * q.ln_1p()).exp();
         let a = 0.5 * nu;
         let x = 1.0 / (1.0 + q);
-        let upper = if x < (a + 1.0) / (a + 2.5) {
+        // The continued fraction of I_(1-x)(1/2, a) terminates after `a` steps when
+        // `a = g - 1` is an integer: prefer it for gamma = 2 and 3 where x >= 1/2 (there
+        // I_x(a, 1/2) > 0.1, so `1/2 - ...` loses at most one digit).
+        let terminating = a.fract() == 0.0 && a <= 2.0 && x >= 0.5;
+        let upper = if x < (a + 1.0) / (a + 2.5) && !terminating {
             f * k * beta_cf(a, 0.5, x) / nu
         } else {
             0.5 - f * k * beta_cf(0.5, a, q / (1.0 + q))
@@ -104,64 +108,51 @@ impl StudentT {
         (nu + k * k) / (nu - 1.0) * f - k * upper
     }
 
-    /// Draws `ln m` from part 1 of the tilted mixing density: `Gamma(g - 3/2, rate 1 + k)`,
-    /// in log space (for shape `< 1`, `X U^(1/shape)` with `X ~ Gamma(shape + 1)`).
+    /// Draws `sqrt(m)` from part 1 of the tilted mixing density: `m ~ Gamma(g - 3/2,
+    /// rate 1 + k)`. For shape `< 1`, `m = X U^(1/shape)` with `X ~ Gamma(shape + 1)`, formed
+    /// in log space because `U^(1/shape)` underflows for gamma near 3/2.
     #[inline]
-    fn draw_ln_m_part1<R: Rng + ?Sized>(&self, ln1p_k: f64, rng: &mut R) -> f64 {
+    fn draw_sqrt_m_part1<R: Rng + ?Sized>(&self, k: f64, rng: &mut R) -> f64 {
         let shape1 = self.gamma - 1.5;
-        let mut ln_m = self.part1.sample(rng).ln() - ln1p_k;
+        let x = self.part1.sample(rng);
         if shape1 < 1.0 {
-            ln_m += open_uniform(rng).ln() / shape1;
+            (0.5 * (x.ln() - k.ln_1p() + open_uniform(rng).ln() / shape1)).exp()
+        } else {
+            (x / (1.0 + k)).sqrt()
         }
-        ln_m
     }
 }
 
-/// Continued fraction of the regularised incomplete beta function (Lentz's method, as in
-/// Numerical Recipes' `betacf`): `I_x(a, b) = x^a (1-x)^b / (a B(a, b)) * beta_cf(a, b, x)`,
-/// converging fast for `x < (a+1)/(a+b+2)`.
+/// Continued fraction of the regularised incomplete beta function (the one of Numerical
+/// Recipes' `betacf`): `I_x(a, b) = x^a (1-x)^b / (a B(a, b)) * beta_cf(a, b, x)` with
+/// `beta_cf = 1 / (1 + d1 / (1 + d2 / (1 + ...)))`, converging fast for
+/// `x < (a+1)/(a+b+2)`. Evaluated by the forward (Wallis) recurrence, renormalised once per
+/// pair of terms: one division per pair instead of Lentz's four.
 #[inline]
 fn beta_cf(a: f64, b: f64, x: f64) -> f64 {
-    const TINY: f64 = 1e-300;
     let qab = a + b;
     let qap = a + 1.0;
     let qam = a - 1.0;
-    let mut c = 1.0;
-    let mut d = 1.0 - qab * x / qap;
-    if d.abs() < TINY {
-        d = TINY;
-    }
-    d = 1.0 / d;
-    let mut h = d;
+    // Convergents A/B; (a0, b0) one step behind.
+    let (mut a0, mut b0) = (1.0, 1.0);
+    let d1 = -qab * x / qap;
+    let (mut a1, mut b1) = (1.0, 1.0 + d1);
+    let mut h = a1 / b1;
     for m in 1..10_000 {
         let m = m as f64;
         let m2 = 2.0 * m;
-        let aa = m * (b - m) * x / ((qam + m2) * (a + m2));
-        d = 1.0 + aa * d;
-        if d.abs() < TINY {
-            d = TINY;
+        let even = m * (b - m) * x / ((qam + m2) * (a + m2));
+        let (a2, b2) = (a1 + even * a0, b1 + even * b0);
+        let odd = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
+        let (a3, b3) = (a2 + odd * a1, b2 + odd * b1);
+        let r = 1.0 / b3;
+        let hn = a3 * r;
+        // Renormalise so that the convergents stay near 1.
+        (a0, b0, a1, b1) = (a2 * r, b2 * r, hn, 1.0);
+        if (hn - h).abs() <= 1e-16 * hn.abs() {
+            return hn;
         }
-        c = 1.0 + aa / c;
-        if c.abs() < TINY {
-            c = TINY;
-        }
-        d = 1.0 / d;
-        h *= d * c;
-        let aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
-        d = 1.0 + aa * d;
-        if d.abs() < TINY {
-            d = TINY;
-        }
-        c = 1.0 + aa / c;
-        if c.abs() < TINY {
-            c = TINY;
-        }
-        d = 1.0 / d;
-        let del = d * c;
-        h *= del;
-        if (del - 1.0).abs() < 1e-16 {
-            break;
-        }
+        h = hn;
     }
     h
 }
@@ -211,26 +202,24 @@ impl Ndf for StudentT {
         }
         let mu = c.abs() / sin;
         let k = mu * mu * self.inv_a2g1;
-        let ln1p_k = k.ln_1p();
-        let w1 = sin * self.w1_scale * (-(self.gamma - 1.5) * ln1p_k).exp();
-        let ln_m = loop {
+        let w1 = sin * self.w1_scale * (-(self.gamma - 1.5) * k.ln_1p()).exp();
+        let sqrt_m = loop {
             if c >= 0.0 {
                 if w1.is_finite() && open_uniform(rng) * (w1 + c) < w1 {
-                    break self.draw_ln_m_part1(ln1p_k, rng);
+                    break self.draw_sqrt_m_part1(k, rng);
                 }
                 let m = self.mix.sample(rng);
                 if m > 0.0 && open_uniform(rng) >= 0.5 * erfc((k * m).sqrt()) {
-                    break m.ln();
+                    break m.sqrt();
                 }
             } else {
-                let ln_m = self.draw_ln_m_part1(ln1p_k, rng);
-                let a = k.sqrt() * (0.5 * ln_m).exp();
-                if open_uniform(rng) < erfcx_gap(a) {
-                    break ln_m;
+                let sqrt_m = self.draw_sqrt_m_part1(k, rng);
+                if open_uniform(rng) < erfcx_gap(k.sqrt() * sqrt_m) {
+                    break sqrt_m;
                 }
             }
         };
-        let inv_alpha_m = (0.5 * ln_m).exp() / self.alpha_g1;
+        let inv_alpha_m = sqrt_m / self.alpha_g1;
         sample_visible_beckmann(w, inv_alpha_m, rng)
     }
 }

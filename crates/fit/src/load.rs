@@ -1,0 +1,784 @@
+//! Reading and validating measurement files (the format of `data-format.md`).
+//!
+//! Every problem is a [`LoadError`] that names the file, and where they apply the line and the
+//! column, so that a user can go straight to the bad field.
+
+use std::collections::HashMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+
+use crate::data::{Dataset, Measurement, Sample};
+
+/// Name of the optional column holding the sample name.
+pub const COL_SAMPLE: &str = "sample";
+/// Name of the incidence-angle column (degrees from the outside, in [0, 90)).
+pub const COL_THETA_I: &str = "theta_i_deg";
+/// Name of the transmitted-direction column (degrees inside the glass, in (90, 270)).
+pub const COL_THETA_O: &str = "theta_o_deg";
+/// Name of the value column holding `L`.
+pub const COL_L: &str = "L";
+/// Name of the value column holding `sqrt(L)`.
+pub const COL_SQRT_L: &str = "sqrt_L";
+/// Name of the optional least-squares weight column.
+pub const COL_WEIGHT: &str = "weight";
+
+/// The byte-order mark a UTF-8 file may start with; it is skipped.
+const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// A measurement file that could not be read, with where the problem is.
+///
+/// Displays as `<file>:<line>: column '<col>': <what>`, leaving out the line or the column when
+/// the problem has none (a missing file has neither).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub struct LoadError {
+    /// The file being read.
+    pub file: PathBuf,
+    /// 1-based line of the file, when the problem is on one line.
+    pub line: Option<u64>,
+    /// The column's header name (or a description of it), when the problem is in one column.
+    pub column: Option<String>,
+    /// What is wrong.
+    pub kind: LoadErrorKind,
+}
+
+impl fmt::Display for LoadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file.display())?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+        }
+        if let Some(column) = &self.column {
+            write!(f, ": column '{column}'")?;
+        }
+        write!(f, ": {}", self.kind)
+    }
+}
+
+/// What is wrong with a measurement file.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum LoadErrorKind {
+    /// The file could not be opened or read.
+    #[error("cannot read the file: {0}")]
+    Io(String),
+    /// No header: the file is empty or holds only blank and comment lines.
+    #[error(
+        "the file is empty; expected a header line such as \
+         'sample,theta_i_deg,theta_o_deg,sqrt_L' (see data-format.md)"
+    )]
+    Empty,
+    /// A header but no measurement rows.
+    #[error("no measurements after the header")]
+    NoRows,
+    /// A required column is not in the header.
+    #[error("missing from the header (the header has: {found})")]
+    MissingColumn { found: String },
+    /// Neither `L` nor `sqrt_L` is in the header.
+    #[error(
+        "missing: exactly one value column 'L' or 'sqrt_L' is needed (the header has: {found})"
+    )]
+    MissingValueColumn { found: String },
+    /// Both `L` and `sqrt_L` are in the header.
+    #[error("'L' and 'sqrt_L' are both present; give exactly one value column")]
+    BothValueColumns,
+    /// A recognised column name appears twice in the header.
+    #[error("appears twice in the header (fields {first} and {second})")]
+    DuplicateColumn { first: usize, second: usize },
+    /// A field holds bytes that are not UTF-8.
+    #[error("bytes that are not valid UTF-8")]
+    NotUtf8,
+    /// A numeric field is empty.
+    #[error("empty value, expected a number")]
+    EmptyValue,
+    /// A numeric field does not parse as a number.
+    #[error("'{0}' is not a number")]
+    NotANumber(String),
+    /// A numeric field is NaN or infinite.
+    #[error("'{0}' is not a finite number")]
+    NonFinite(String),
+    /// A value, `sqrt(L)` or weight field is negative.
+    #[error("{0} is negative; must be >= 0")]
+    Negative(f64),
+    /// An angle outside its range.
+    #[error("{value} is out of range; must be in {range}")]
+    AngleOutOfRange { value: f64, range: &'static str },
+    /// A row with fewer fields than the header.
+    #[error("missing: the row has {found} fields, the header {expected}")]
+    ShortRow { found: usize, expected: usize },
+    /// A row with more fields than the header.
+    #[error("the row has {found} fields but the header only {expected} (an unquoted comma?)")]
+    LongRow { found: usize, expected: usize },
+    /// An empty field in the `sample` column.
+    #[error("empty sample name")]
+    EmptySampleName,
+    /// Every weight of a sample is zero, so nothing constrains its fit.
+    #[error("every weight of sample '{0}' is 0; at least one must be positive")]
+    AllWeightsZero(String),
+    /// A requested sample name is not in the file.
+    #[error("no sample named '{name}' (the file has: {available})")]
+    UnknownSample { name: String, available: String },
+    /// A sample was requested from a file without a `sample` column.
+    #[error("the file has no 'sample' column, so no sample named '{0}' can be selected")]
+    NoSampleColumn(String),
+    /// The CSV structure itself is broken.
+    #[error("malformed CSV: {0}")]
+    Csv(String),
+}
+
+impl LoadError {
+    fn new(file: &Path, line: Option<u64>, column: Option<&str>, kind: LoadErrorKind) -> Self {
+        Self {
+            file: file.to_path_buf(),
+            line,
+            column: column.map(str::to_owned),
+            kind,
+        }
+    }
+}
+
+/// Reads and validates the measurement file at `path`.
+pub fn load_path(path: &Path) -> Result<Dataset, LoadError> {
+    let bytes = std::fs::read(path)
+        .map_err(|e| LoadError::new(path, None, None, LoadErrorKind::Io(e.to_string())))?;
+    load_bytes(path, &bytes)
+}
+
+/// Parses and validates measurement-file contents; `source` names them in errors.
+pub fn load_bytes(source: &Path, bytes: &[u8]) -> Result<Dataset, LoadError> {
+    let bytes = strip_comments(bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes));
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(bytes.as_slice());
+
+    let mut records = reader.byte_records().filter(|r| match r {
+        Ok(record) => !is_blank(record),
+        Err(_) => true,
+    });
+    let mut lines = LineCounter::new(&bytes);
+    let csv_error =
+        |e: csv::Error| LoadError::new(source, None, None, LoadErrorKind::Csv(e.to_string()));
+
+    let header_record = match records.next() {
+        None => return Err(LoadError::new(source, Some(1), None, LoadErrorKind::Empty)),
+        Some(record) => record.map_err(csv_error)?,
+    };
+    let header_line = lines.line_of(&header_record);
+    let header = Header::parse(source, header_line, &header_record)?;
+
+    let mut samples: Vec<Sample> = Vec::new();
+    let mut index: HashMap<String, usize> = HashMap::new();
+    // Line of each sample's first row, to place a sample-wide error.
+    let mut first_line: Vec<u64> = Vec::new();
+    for record in records {
+        let record = record.map_err(csv_error)?;
+        let line = lines.line_of(&record);
+        let (name, point) = header.row(source, line, &record)?;
+        let slot = match index.get(&name) {
+            Some(&i) => i,
+            None => {
+                index.insert(name.clone(), samples.len());
+                samples.push(Sample {
+                    name,
+                    points: Vec::new(),
+                });
+                first_line.push(line);
+                samples.len() - 1
+            }
+        };
+        samples[slot].points.push(point);
+    }
+    if samples.is_empty() {
+        return Err(LoadError::new(
+            source,
+            Some(header_line),
+            None,
+            LoadErrorKind::NoRows,
+        ));
+    }
+    for (sample, &line) in samples.iter().zip(&first_line) {
+        if sample.points.iter().all(|p| p.weight == 0.0) {
+            return Err(LoadError::new(
+                source,
+                Some(line),
+                Some(COL_WEIGHT),
+                LoadErrorKind::AllWeightsZero(sample.name.clone()),
+            ));
+        }
+    }
+    Ok(Dataset {
+        source: source.to_path_buf(),
+        samples,
+    })
+}
+
+/// A record that is one whitespace-only field: an empty or blank line.
+fn is_blank(record: &csv::ByteRecord) -> bool {
+    record.len() == 1 && record[0].iter().all(u8::is_ascii_whitespace)
+}
+
+/// Converts the positions of records, met in file order, to 1-based line numbers.
+///
+/// The CSV reader's own position of a record is where it started scanning for it, before the
+/// empty lines it skips, so the record's first byte is found by skipping line breaks from there.
+struct LineCounter<'a> {
+    bytes: &'a [u8],
+    offset: usize,
+    line: u64,
+}
+
+impl<'a> LineCounter<'a> {
+    fn new(bytes: &'a [u8]) -> Self {
+        Self {
+            bytes,
+            offset: 0,
+            line: 1,
+        }
+    }
+
+    /// The line on which `record` starts.
+    fn line_of(&mut self, record: &csv::ByteRecord) -> u64 {
+        let scan_start = record
+            .position()
+            .map_or(self.offset, |p| {
+                usize::try_from(p.byte()).unwrap_or(usize::MAX)
+            })
+            .clamp(self.offset, self.bytes.len());
+        let start = scan_start
+            + self.bytes[scan_start..]
+                .iter()
+                .take_while(|&&b| b == b'\r' || b == b'\n')
+                .count();
+        let newlines = self.bytes[self.offset..start]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        self.line += newlines as u64;
+        self.offset = start;
+        self.line
+    }
+}
+
+/// Empties every comment line (a line whose first byte is `#`, outside a quoted field),
+/// keeping its line break so that the CSV reader's line numbers stay those of the file.
+fn strip_comments(bytes: &[u8]) -> Vec<u8> {
+    #[derive(Clone, Copy)]
+    enum State {
+        LineStart,
+        FieldStart,
+        Unquoted,
+        Quoted,
+        QuoteInQuoted,
+        Comment,
+    }
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut state = State::LineStart;
+    for &b in bytes {
+        state = match (state, b) {
+            (State::Comment, b'\n') => State::LineStart,
+            (State::Comment, _) => continue,
+            (State::LineStart, b'#') => {
+                state = State::Comment;
+                continue;
+            }
+            (State::Quoted, b'"') => State::QuoteInQuoted,
+            (State::Quoted, _) => State::Quoted,
+            (State::QuoteInQuoted, b'"') => State::Quoted,
+            (State::LineStart | State::FieldStart, b'"') => State::Quoted,
+            (_, b'\n') => State::LineStart,
+            (_, b',') => State::FieldStart,
+            _ => State::Unquoted,
+        };
+        out.push(b);
+    }
+    out
+}
+
+/// Which value column the file gives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ValueColumn {
+    L,
+    SqrtL,
+}
+
+/// Field positions of the recognised columns.
+#[derive(Debug)]
+struct Header {
+    len: usize,
+    sample: Option<usize>,
+    theta_i: usize,
+    theta_o: usize,
+    value: (usize, ValueColumn),
+    weight: Option<usize>,
+    /// Every header name, for messages about extra fields.
+    names: Vec<String>,
+}
+
+impl Header {
+    fn parse(source: &Path, line: u64, record: &csv::ByteRecord) -> Result<Self, LoadError> {
+        let mut names = Vec::with_capacity(record.len());
+        for (i, field) in record.iter().enumerate() {
+            let name = std::str::from_utf8(field).map_err(|_| {
+                LoadError::new(
+                    source,
+                    Some(line),
+                    Some(&format!("header field {}", i + 1)),
+                    LoadErrorKind::NotUtf8,
+                )
+            })?;
+            names.push(name.trim().to_owned());
+        }
+        let found = names.join(", ");
+        let find = |wanted: &str| -> Result<Option<usize>, LoadError> {
+            let mut hits = names.iter().enumerate().filter(|(_, n)| *n == wanted);
+            let first = hits.next().map(|(i, _)| i);
+            if let (Some(first), Some((second, _))) = (first, hits.next()) {
+                return Err(LoadError::new(
+                    source,
+                    Some(line),
+                    Some(wanted),
+                    LoadErrorKind::DuplicateColumn {
+                        first: first + 1,
+                        second: second + 1,
+                    },
+                ));
+            }
+            Ok(first)
+        };
+        let required = |wanted: &str| -> Result<usize, LoadError> {
+            find(wanted)?.ok_or_else(|| {
+                LoadError::new(
+                    source,
+                    Some(line),
+                    Some(wanted),
+                    LoadErrorKind::MissingColumn {
+                        found: found.clone(),
+                    },
+                )
+            })
+        };
+        let sample = find(COL_SAMPLE)?;
+        let theta_i = required(COL_THETA_I)?;
+        let theta_o = required(COL_THETA_O)?;
+        let value = match (find(COL_L)?, find(COL_SQRT_L)?) {
+            (Some(i), None) => (i, ValueColumn::L),
+            (None, Some(i)) => (i, ValueColumn::SqrtL),
+            (Some(_), Some(_)) => {
+                return Err(LoadError::new(
+                    source,
+                    Some(line),
+                    Some(COL_SQRT_L),
+                    LoadErrorKind::BothValueColumns,
+                ));
+            }
+            (None, None) => {
+                return Err(LoadError::new(
+                    source,
+                    Some(line),
+                    Some("L or sqrt_L"),
+                    LoadErrorKind::MissingValueColumn {
+                        found: found.clone(),
+                    },
+                ));
+            }
+        };
+        let weight = find(COL_WEIGHT)?;
+        Ok(Self {
+            len: names.len(),
+            sample,
+            theta_i,
+            theta_o,
+            value,
+            weight,
+            names,
+        })
+    }
+
+    /// Validates one data row into its sample name and measurement.
+    fn row(
+        &self,
+        source: &Path,
+        line: u64,
+        record: &csv::ByteRecord,
+    ) -> Result<(String, Measurement), LoadError> {
+        let err = |column: &str, kind| LoadError::new(source, Some(line), Some(column), kind);
+        if record.len() > self.len {
+            return Err(err(
+                &format!("extra field {}", self.len + 1),
+                LoadErrorKind::LongRow {
+                    found: record.len(),
+                    expected: self.len,
+                },
+            ));
+        }
+        // Every field is checked for UTF-8, including those of unrecognised columns.
+        let mut fields = Vec::with_capacity(record.len());
+        for (i, field) in record.iter().enumerate() {
+            let text = std::str::from_utf8(field)
+                .map_err(|_| err(&self.names[i], LoadErrorKind::NotUtf8))?;
+            fields.push(text.trim());
+        }
+        if fields.len() < self.len {
+            return Err(err(
+                &self.names[fields.len()],
+                LoadErrorKind::ShortRow {
+                    found: fields.len(),
+                    expected: self.len,
+                },
+            ));
+        }
+        // Check the fields left to right so that the first bad one is reported.
+        let mut order = vec![self.theta_i, self.theta_o, self.value.0];
+        order.extend(self.sample);
+        order.extend(self.weight);
+        order.sort_unstable();
+        let mut name = String::new();
+        let mut values = [0.0; 3];
+        let mut weight = 1.0;
+        for &i in &order {
+            if Some(i) == self.sample {
+                if fields[i].is_empty() {
+                    return Err(err(COL_SAMPLE, LoadErrorKind::EmptySampleName));
+                }
+                fields[i].clone_into(&mut name);
+                continue;
+            }
+            let x = parse_finite(fields[i]).map_err(|kind| err(&self.names[i], kind))?;
+            if i == self.theta_i {
+                if !(0.0..90.0).contains(&x) {
+                    return Err(err(
+                        COL_THETA_I,
+                        LoadErrorKind::AngleOutOfRange {
+                            value: x,
+                            range: "[0, 90)",
+                        },
+                    ));
+                }
+                values[0] = x;
+            } else if i == self.theta_o {
+                if !(x > 90.0 && x < 270.0) {
+                    return Err(err(
+                        COL_THETA_O,
+                        LoadErrorKind::AngleOutOfRange {
+                            value: x,
+                            range: "(90, 270)",
+                        },
+                    ));
+                }
+                values[1] = x;
+            } else {
+                if x < 0.0 {
+                    return Err(err(&self.names[i], LoadErrorKind::Negative(x)));
+                }
+                if i == self.value.0 {
+                    values[2] = match self.value.1 {
+                        ValueColumn::L => x,
+                        ValueColumn::SqrtL => x * x,
+                    };
+                } else {
+                    weight = x;
+                }
+            }
+        }
+        Ok((
+            name,
+            Measurement {
+                theta_i_deg: values[0],
+                theta_o_deg: values[1],
+                // `-0` is accepted as zero; store it as +0.
+                l: values[2] + 0.0,
+                weight: weight + 0.0,
+            },
+        ))
+    }
+}
+
+/// Parses a decimal number that must be finite.
+fn parse_finite(text: &str) -> Result<f64, LoadErrorKind> {
+    if text.is_empty() {
+        return Err(LoadErrorKind::EmptyValue);
+    }
+    let x: f64 = text
+        .parse()
+        .map_err(|_| LoadErrorKind::NotANumber(text.to_owned()))?;
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(LoadErrorKind::NonFinite(text.to_owned()))
+    }
+}
+
+impl Dataset {
+    /// Reads and validates the measurement file at `path` (see [`load_path`]).
+    pub fn load(path: &Path) -> Result<Self, LoadError> {
+        load_path(path)
+    }
+
+    /// The sample called `name`, or an error naming the file and the samples it has.
+    pub fn sample(&self, name: &str) -> Result<&Sample, LoadError> {
+        if let Some(sample) = self.samples.iter().find(|s| s.name == name) {
+            return Ok(sample);
+        }
+        let kind = if self.samples.iter().all(|s| s.name.is_empty()) {
+            LoadErrorKind::NoSampleColumn(name.to_owned())
+        } else {
+            let available = self
+                .samples
+                .iter()
+                .map(|s| format!("'{}'", s.name))
+                .collect::<Vec<_>>()
+                .join(", ");
+            LoadErrorKind::UnknownSample {
+                name: name.to_owned(),
+                available,
+            }
+        };
+        Err(LoadError::new(&self.source, None, Some(COL_SAMPLE), kind))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load(text: &str) -> Result<Dataset, LoadError> {
+        load_bytes(Path::new("t.csv"), text.as_bytes())
+    }
+
+    fn kind_at(text: &str) -> (Option<u64>, Option<String>, LoadErrorKind) {
+        let e = load(text).unwrap_err();
+        (e.line, e.column, e.kind)
+    }
+
+    #[test]
+    fn minimal_file_without_sample_column() {
+        let d = load("theta_i_deg,theta_o_deg,L\n0,180,2.5\n30,200,0\n").unwrap();
+        assert_eq!(d.samples.len(), 1);
+        assert_eq!(d.samples[0].name, "");
+        assert_eq!(
+            d.samples[0].points[0],
+            Measurement {
+                theta_i_deg: 0.0,
+                theta_o_deg: 180.0,
+                l: 2.5,
+                weight: 1.0
+            }
+        );
+    }
+
+    #[test]
+    fn sqrt_l_is_squared_and_samples_keep_first_appearance_order() {
+        let text = "sqrt_L,theta_o_deg,sample,theta_i_deg,notes\n\
+                    0.5,180,b,0,x\n2,181,a,0,y\n0.25,182,b,30,z\n";
+        let d = load(text).unwrap();
+        let names: Vec<_> = d.samples.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["b", "a"]);
+        assert_eq!(d.samples[0].points.len(), 2);
+        assert_eq!(d.samples[0].points[0].l, 0.25);
+        assert_eq!(d.samples[0].points[1].l, 0.0625);
+        assert_eq!(d.samples[0].points[1].theta_i_deg, 30.0);
+        assert_eq!(d.samples[1].points[0].l, 4.0);
+    }
+
+    #[test]
+    fn bom_whitespace_blank_lines_comments_crlf_and_quotes() {
+        let text = "\u{feff}# made by hand\r\n sample , theta_i_deg,theta_o_deg , L ,weight\r\n\
+                    \r\n   \r\n\"frosted, fine\", 10 ,\t170.5, 1e-3 , 0\r\n# comment\r\n\
+                    \"frosted, fine\",10,171,2E-3,2.5\r\n";
+        let d = load(text).unwrap();
+        assert_eq!(d.samples.len(), 1);
+        let s = &d.samples[0];
+        assert_eq!(s.name, "frosted, fine");
+        assert_eq!(s.points.len(), 2);
+        assert_eq!(s.points[0].theta_o_deg, 170.5);
+        assert_eq!(s.points[0].l, 1e-3);
+        assert_eq!(s.points[0].weight, 0.0);
+        assert_eq!(s.points[1].weight, 2.5);
+    }
+
+    #[test]
+    fn line_numbers_count_comments_and_blank_lines() {
+        let text = "# c\n\ntheta_i_deg,theta_o_deg,L\n0,180,1\n# c\n\n0,180,x\n";
+        let (line, column, kind) = kind_at(text);
+        assert_eq!(line, Some(7));
+        assert_eq!(column.as_deref(), Some("L"));
+        assert_eq!(kind, LoadErrorKind::NotANumber("x".into()));
+        let crlf = text.replace('\n', "\r\n");
+        assert_eq!(kind_at(&crlf).0, Some(7));
+        let quoted = "\n\nsample,theta_i_deg,theta_o_deg,L\r\n\r\n\"a\n\nb\",0,180,1\n  \n\n\"c\",0,180,-1\n";
+        assert_eq!(kind_at(quoted).0, Some(10));
+    }
+
+    #[test]
+    fn hash_only_starts_a_comment_at_the_start_of_a_line_outside_quotes() {
+        let text = "sample,theta_i_deg,theta_o_deg,L\n\"a\n#b\",0,180,1\n\
+                    # x, \"y\n#c,0,180,2\n a#,0,180,3\n";
+        let d = load(text).unwrap();
+        let names: Vec<_> = d.samples.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["a\n#b", "a#"]);
+        let e = load("theta_i_deg,theta_o_deg,L\n\"x\"\"#\n#y\",0,180\n").unwrap_err();
+        assert_eq!(e.line, Some(2));
+    }
+
+    #[test]
+    fn angle_ranges_are_half_open_and_open() {
+        let ok = "theta_i_deg,theta_o_deg,L\n0,90.0001,1\n89.999,269.999,1\n";
+        assert!(load(ok).is_ok());
+        for (row, col) in [
+            ("90,180,1", COL_THETA_I),
+            ("-1,180,1", COL_THETA_I),
+            ("0,90,1", COL_THETA_O),
+            ("0,270,1", COL_THETA_O),
+            ("0,45,1", COL_THETA_O),
+        ] {
+            let (line, column, kind) = kind_at(&format!("theta_i_deg,theta_o_deg,L\n{row}\n"));
+            assert_eq!(line, Some(2), "{row}");
+            assert_eq!(column.as_deref(), Some(col), "{row}");
+            assert!(
+                matches!(kind, LoadErrorKind::AngleOutOfRange { .. }),
+                "{row}"
+            );
+        }
+    }
+
+    #[test]
+    fn first_bad_field_from_the_left_is_reported() {
+        let (_, column, _) = kind_at("L,theta_i_deg,theta_o_deg\n-1,95,45\n");
+        assert_eq!(column.as_deref(), Some("L"));
+        let (_, column, _) = kind_at("theta_i_deg,sample,theta_o_deg,L\n95,,180,1\n");
+        assert_eq!(column.as_deref(), Some("theta_i_deg"));
+    }
+
+    #[test]
+    fn a_row_missing_only_an_unrecognised_field_is_short_too() {
+        let (line, column, kind) = kind_at("theta_i_deg,theta_o_deg,L,notes\n0,180,1,x\n0,180,1\n");
+        assert_eq!((line, column.as_deref()), (Some(3), Some("notes")));
+        assert_eq!(
+            kind,
+            LoadErrorKind::ShortRow {
+                found: 3,
+                expected: 4
+            }
+        );
+    }
+
+    #[test]
+    fn bad_fields_name_their_column() {
+        let h = "sample,theta_i_deg,theta_o_deg,L,weight\n";
+        let cases = [
+            ("a,0,180,nan,1", "L", LoadErrorKind::NonFinite("nan".into())),
+            (
+                "a,0,180,-inf,1",
+                "L",
+                LoadErrorKind::NonFinite("-inf".into()),
+            ),
+            ("a,0,180,-0.5,1", "L", LoadErrorKind::Negative(-0.5)),
+            ("a,0,180,1,-2", "weight", LoadErrorKind::Negative(-2.0)),
+            ("a,,180,1,1", "theta_i_deg", LoadErrorKind::EmptyValue),
+            (
+                "a,0,18O,1,1",
+                "theta_o_deg",
+                LoadErrorKind::NotANumber("18O".into()),
+            ),
+            ("  ,0,180,1,1", "sample", LoadErrorKind::EmptySampleName),
+            (
+                "a,0,180",
+                "L",
+                LoadErrorKind::ShortRow {
+                    found: 3,
+                    expected: 5,
+                },
+            ),
+            (
+                "a,0,180,1,1,7",
+                "extra field 6",
+                LoadErrorKind::LongRow {
+                    found: 6,
+                    expected: 5,
+                },
+            ),
+        ];
+        for (row, col, want) in cases {
+            let (line, column, kind) = kind_at(&format!("{h}{row}\n"));
+            assert_eq!(line, Some(2), "{row}");
+            assert_eq!(column.as_deref(), Some(col), "{row}");
+            assert_eq!(kind, want, "{row}");
+        }
+    }
+
+    #[test]
+    fn header_problems() {
+        let (line, column, kind) = kind_at("theta_i_deg,theta_o_deg\n0,180\n");
+        assert_eq!((line, column.as_deref()), (Some(1), Some("L or sqrt_L")));
+        assert!(matches!(kind, LoadErrorKind::MissingValueColumn { .. }));
+        let (_, column, kind) = kind_at("theta_i_deg,theta_o_deg,L,sqrt_L\n0,180,1,1\n");
+        assert_eq!(column.as_deref(), Some("sqrt_L"));
+        assert_eq!(kind, LoadErrorKind::BothValueColumns);
+        let (_, column, kind) = kind_at("theta_i_deg,L,theta_o_deg,L\n0,1,180,1\n");
+        assert_eq!(column.as_deref(), Some("L"));
+        assert_eq!(
+            kind,
+            LoadErrorKind::DuplicateColumn {
+                first: 2,
+                second: 4
+            }
+        );
+        let (_, column, _) = kind_at("theta_i_deg,L\n0,1\n");
+        assert_eq!(column.as_deref(), Some("theta_o_deg"));
+        assert_eq!(kind_at("").2, LoadErrorKind::Empty);
+        assert_eq!(
+            kind_at("\u{feff}\n# only a comment\n\n").2,
+            LoadErrorKind::Empty
+        );
+        let (line, _, kind) = kind_at("# c\ntheta_i_deg,theta_o_deg,L\n\n");
+        assert_eq!((line, kind), (Some(2), LoadErrorKind::NoRows));
+    }
+
+    #[test]
+    fn non_utf8_is_located() {
+        let bytes = b"sample,theta_i_deg,theta_o_deg,L\nok,0,180,1\n\xff\xfe,0,180,1\n";
+        let e = load_bytes(Path::new("t.csv"), bytes).unwrap_err();
+        assert_eq!(
+            (e.line, e.column.as_deref(), e.kind),
+            (Some(3), Some("sample"), LoadErrorKind::NotUtf8)
+        );
+    }
+
+    #[test]
+    fn all_zero_weights_in_a_sample_are_rejected() {
+        let text =
+            "sample,theta_i_deg,theta_o_deg,L,weight\na,0,180,1,1\nb,0,180,1,0\nb,0,181,1,0\n";
+        let (line, column, kind) = kind_at(text);
+        assert_eq!((line, column.as_deref()), (Some(3), Some("weight")));
+        assert_eq!(kind, LoadErrorKind::AllWeightsZero("b".into()));
+    }
+
+    #[test]
+    fn selecting_samples() {
+        let d = load("sample,theta_i_deg,theta_o_deg,L\na,0,180,1\nb,0,180,2\n").unwrap();
+        assert_eq!(d.sample("b").unwrap().points[0].l, 2.0);
+        let e = d.sample("c").unwrap_err();
+        assert_eq!(e.column.as_deref(), Some("sample"));
+        assert_eq!(
+            e.to_string(),
+            "t.csv: column 'sample': no sample named 'c' (the file has: 'a', 'b')"
+        );
+        let d = load("theta_i_deg,theta_o_deg,L\n0,180,1\n").unwrap();
+        assert!(matches!(
+            d.sample("a").unwrap_err().kind,
+            LoadErrorKind::NoSampleColumn(_)
+        ));
+    }
+
+    #[test]
+    fn display_format() {
+        let e = load("theta_i_deg,theta_o_deg,L\n0,180,abc\n").unwrap_err();
+        assert_eq!(e.to_string(), "t.csv:2: column 'L': 'abc' is not a number");
+        let e = load_path(Path::new("/nonexistent/x.csv")).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("/nonexistent/x.csv: cannot read the file")
+        );
+    }
+}

@@ -1,0 +1,33 @@
+//! The published Walter et al. 2007 measurements load unchanged (read from the shared folder,
+//! `../shared` next to the repository, or `$STFIT_SHARED`; never copied into the project).
+
+use std::path::PathBuf;
+
+use stfit_fit::load::load_path;
+
+fn shared_dir() -> PathBuf {
+    std::env::var_os("STFIT_SHARED").map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared"),
+        PathBuf::from,
+    )
+}
+
+#[test]
+fn walter_measurements_load_with_three_samples_of_300_points() {
+    let path = shared_dir().join("data/walter2007/measurements.csv");
+    let data = load_path(&path).unwrap_or_else(|e| panic!("{e}"));
+    let names: Vec<_> = data.samples.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, ["frosted", "etched", "ground"]);
+    for sample in &data.samples {
+        assert_eq!(sample.points.len(), 300, "{}", sample.name);
+        let mut incidences: Vec<f64> = sample.points.iter().map(|p| p.theta_i_deg).collect();
+        incidences.sort_by(f64::total_cmp);
+        incidences.dedup();
+        assert_eq!(incidences, [0.0, 30.0, 60.0, 80.0], "{}", sample.name);
+        assert!(sample.points.iter().all(|p| p.weight == 1.0 && p.l >= 0.0));
+    }
+    // The file gives sqrt(L); the first row is `frosted,0,105.82,0.1103`.
+    let first = data.samples[0].points[0];
+    assert_eq!((first.theta_i_deg, first.theta_o_deg), (0.0, 105.82));
+    assert!((first.l - 0.1103f64.powi(2)).abs() < 1e-15);
+}

@@ -1,0 +1,356 @@
+//! Bad input to the `stfit` binary: every problem exits non-zero without a panic, and its message
+//! names the file and, where the problem has them, the line and the column
+//! (`error: <file>:<line>: column '<col>': <what>`, data-format.md).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const HEADER: &str = "sample,theta_i_deg,theta_o_deg,sqrt_L\n";
+
+/// A fresh directory for one test under the system temp dir, removed when dropped.
+struct CaseDir(PathBuf);
+
+impl CaseDir {
+    fn new(name: &str) -> Self {
+        let dir =
+            std::env::temp_dir().join(format!("stfit-bad-input-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        Self(dir)
+    }
+
+    fn file(&self, name: &str, contents: &[u8]) -> PathBuf {
+        let path = self.0.join(name);
+        std::fs::write(&path, contents).unwrap();
+        path
+    }
+}
+
+impl Drop for CaseDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn stfit(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_stfit"))
+        .args(args)
+        .output()
+        .expect("the stfit binary runs")
+}
+
+/// Runs `stfit FILE args` and checks the failure: exit status `code`, no panic, and a message
+/// `error: FILE[:line][: column 'col']: ...` containing `what`.
+fn expect_error(
+    path: &Path,
+    args: &[&str],
+    line: Option<u64>,
+    column: Option<&str>,
+    what: &str,
+) -> String {
+    let path_str = path.to_str().unwrap();
+    let mut all = vec![path_str];
+    all.extend_from_slice(args);
+    let out = stfit(&all);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(1), "stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "stderr: {stderr}");
+    assert!(out.stdout.is_empty(), "nothing on stdout on error");
+    let mut prefix = format!("error: {path_str}");
+    if let Some(line) = line {
+        prefix += &format!(":{line}");
+    }
+    if let Some(column) = column {
+        prefix += &format!(": column '{column}'");
+    }
+    prefix += ": ";
+    assert!(
+        stderr.starts_with(&prefix),
+        "stderr {stderr:?} should start with {prefix:?}"
+    );
+    assert!(
+        stderr.contains(what),
+        "stderr {stderr:?} should say {what:?}"
+    );
+    stderr
+}
+
+/// A file holding `rows` after the standard header, with a bad field on line 3.
+fn data(dir: &CaseDir, rows: &str) -> PathBuf {
+    dir.file("data.csv", format!("{HEADER}a,0,180,1\n{rows}").as_bytes())
+}
+
+#[test]
+fn missing_file() {
+    let dir = CaseDir::new("missing");
+    let path = dir.0.join("does-not-exist.csv");
+    expect_error(&path, &[], None, None, "cannot read the file");
+}
+
+#[test]
+fn empty_file() {
+    let dir = CaseDir::new("empty");
+    expect_error(&dir.file("e.csv", b""), &[], Some(1), None, "empty");
+    let blank = dir.file("blank.csv", b"\xEF\xBB\xBF\n# comment\n   \n");
+    expect_error(&blank, &[], Some(1), None, "empty");
+}
+
+#[test]
+fn header_only() {
+    let dir = CaseDir::new("header-only");
+    let path = dir.file("h.csv", format!("# made by hand\n{HEADER}\n\n").as_bytes());
+    expect_error(&path, &[], Some(2), None, "no measurements");
+}
+
+#[test]
+fn missing_value_column() {
+    let dir = CaseDir::new("no-value");
+    let path = dir.file("v.csv", b"sample,theta_i_deg,theta_o_deg,l\na,0,180,1\n");
+    expect_error(&path, &[], Some(1), Some("L or sqrt_L"), "the header has");
+}
+
+#[test]
+fn missing_angle_column() {
+    let dir = CaseDir::new("no-angle");
+    let path = dir.file("v.csv", b"sample,theta_i_deg,L\na,0,1\n");
+    expect_error(&path, &[], Some(1), Some("theta_o_deg"), "missing");
+}
+
+#[test]
+fn duplicated_value_column() {
+    let dir = CaseDir::new("dup-value");
+    let twice = dir.file("twice.csv", b"theta_i_deg,theta_o_deg,L,L\n0,180,1,1\n");
+    expect_error(&twice, &[], Some(1), Some("L"), "appears twice");
+    let both = dir.file("both.csv", b"theta_i_deg,theta_o_deg,L,sqrt_L\n0,180,1,1\n");
+    expect_error(&both, &[], Some(1), Some("sqrt_L"), "both present");
+}
+
+#[test]
+fn non_numeric_value() {
+    let dir = CaseDir::new("non-numeric");
+    let path = data(&dir, "a,0,18O,1\n");
+    expect_error(
+        &path,
+        &[],
+        Some(3),
+        Some("theta_o_deg"),
+        "'18O' is not a number",
+    );
+    let empty = data(&dir, "a,0,180,\n");
+    expect_error(&empty, &[], Some(3), Some("sqrt_L"), "empty value");
+}
+
+#[test]
+fn nan_value() {
+    let dir = CaseDir::new("nan");
+    let path = data(&dir, "a,0,180,NaN\n");
+    expect_error(&path, &[], Some(3), Some("sqrt_L"), "not a finite number");
+}
+
+#[test]
+fn infinite_value() {
+    let dir = CaseDir::new("inf");
+    let path = data(&dir, "a,inf,180,1\n");
+    expect_error(
+        &path,
+        &[],
+        Some(3),
+        Some("theta_i_deg"),
+        "not a finite number",
+    );
+    let big = data(&dir, "a,0,180,1e999\n");
+    expect_error(&big, &[], Some(3), Some("sqrt_L"), "not a finite number");
+}
+
+#[test]
+fn negative_values() {
+    let dir = CaseDir::new("negative");
+    let path = data(&dir, "a,0,180,-0.01\n");
+    expect_error(&path, &[], Some(3), Some("sqrt_L"), "negative");
+    let weight = dir.file(
+        "w.csv",
+        b"theta_i_deg,theta_o_deg,L,weight\n0,180,1,1\n0,181,1,-1\n",
+    );
+    expect_error(&weight, &[], Some(3), Some("weight"), "negative");
+}
+
+#[test]
+fn angles_out_of_range() {
+    let dir = CaseDir::new("angles");
+    for (row, column) in [
+        ("a,90,180,1", "theta_i_deg"),
+        ("a,-5,180,1", "theta_i_deg"),
+        ("a,0,90,1", "theta_o_deg"),
+        ("a,0,270,1", "theta_o_deg"),
+        ("a,0,0,1", "theta_o_deg"),
+        ("a,0,300,1", "theta_o_deg"),
+    ] {
+        let path = data(&dir, &format!("{row}\n"));
+        expect_error(&path, &[], Some(3), Some(column), "out of range");
+    }
+}
+
+#[test]
+fn short_and_long_rows() {
+    let dir = CaseDir::new("short");
+    let path = data(&dir, "a,0,180\n");
+    expect_error(&path, &[], Some(3), Some("sqrt_L"), "the row has 3 fields");
+    let long = data(&dir, "a, b,0,180,1\n");
+    expect_error(&long, &[], Some(3), Some("extra field 5"), "unquoted comma");
+}
+
+#[test]
+fn bytes_that_are_not_utf8() {
+    let dir = CaseDir::new("utf8");
+    let mut bytes = format!("{HEADER}a,0,180,1\n").into_bytes();
+    bytes.extend_from_slice(b"gr\xE9s,0,180,1\n");
+    let path = dir.file("latin1.csv", &bytes);
+    expect_error(&path, &[], Some(3), Some("sample"), "not valid UTF-8");
+    let header = dir.file("h.csv", b"theta_i_deg,theta_o_deg,\xFF\n0,180,1\n");
+    expect_error(
+        &header,
+        &[],
+        Some(1),
+        Some("header field 3"),
+        "not valid UTF-8",
+    );
+}
+
+#[test]
+fn sample_not_in_file() {
+    let dir = CaseDir::new("sample");
+    let path = dir.file(
+        "s.csv",
+        format!("{HEADER}a,0,180,1\nb,0,180,1\n").as_bytes(),
+    );
+    let stderr = expect_error(
+        &path,
+        &["--sample", "c"],
+        None,
+        Some("sample"),
+        "no sample named 'c'",
+    );
+    assert!(stderr.contains("'a', 'b'"), "lists the samples: {stderr}");
+    let unnamed = dir.file("u.csv", b"theta_i_deg,theta_o_deg,L\n0,180,1\n");
+    expect_error(
+        &unnamed,
+        &["--sample", "a"],
+        None,
+        Some("sample"),
+        "no 'sample' column",
+    );
+}
+
+#[test]
+fn all_weights_zero() {
+    let dir = CaseDir::new("weights");
+    let path = dir.file(
+        "w.csv",
+        b"sample,theta_i_deg,theta_o_deg,L,weight\na,0,180,1,1\nb,0,180,1,0\n",
+    );
+    expect_error(
+        &path,
+        &[],
+        Some(3),
+        Some("weight"),
+        "every weight of sample 'b'",
+    );
+}
+
+/// Invalid flags exit with status 2 and a message naming the flag, never a panic.
+#[test]
+fn invalid_fit_flags() {
+    let dir = CaseDir::new("flags");
+    let path = data(&dir, "");
+    let p = path.to_str().unwrap();
+    for (args, what) in [
+        (vec![p, "--gamma", "1.5"], "--gamma: gamma must be > 3/2"),
+        (vec![p, "--gamma", "nan"], "--gamma"),
+        (
+            vec![p, "--model", "ggx", "--gamma", "3"],
+            "needs --model student-t",
+        ),
+        (
+            vec![p, "--model", "all", "--gamma", "3"],
+            "needs --model student-t",
+        ),
+        (vec![p, "--eta", "1"], "--eta"),
+        (vec![p, "--eta", "-1.5"], "--eta"),
+        (
+            vec![p, "--model", "cook-torrance"],
+            "invalid value 'cook-torrance'",
+        ),
+        (vec![p, "--eta", "abc"], "invalid value 'abc'"),
+        (vec![p, "--out", p], "refusing to overwrite"),
+        (vec![], "required"),
+    ] {
+        let out = stfit(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains(what),
+            "{args:?}: {stderr:?} should say {what:?}"
+        );
+    }
+}
+
+/// `stfit synth` validates its arguments the same way.
+#[test]
+fn invalid_synth_flags() {
+    let base = ["synth", "--alpha", "0.2"];
+    for (extra, what) in [
+        (vec!["--model", "student-t"], "student-t needs a gamma"),
+        (
+            vec!["--model", "ggx", "--gamma", "3"],
+            "beckmann and ggx take none",
+        ),
+        (
+            vec!["--model", "student-t", "--gamma", "1.2"],
+            "gamma must be > 3/2",
+        ),
+        (
+            vec!["--model", "ggx", "--scale", "0"],
+            "scale must be finite and > 0",
+        ),
+        (
+            vec!["--model", "ggx", "--noise", "-0.1"],
+            "noise must be finite",
+        ),
+        (vec!["--model", "ggx", "--eta", "inf"], "--eta"),
+        (
+            vec!["--model", "ggx", "--theta-i", "0,90"],
+            "theta_i_deg = 90 is out of range",
+        ),
+        (
+            vec!["--model", "ggx", "--theta-o", "80:200:2"],
+            "theta_o_deg = 80",
+        ),
+        (
+            vec!["--model", "ggx", "--theta-o", "106:254:0"],
+            "step must be > 0",
+        ),
+        (
+            vec!["--model", "ggx", "--theta-o", "1;2"],
+            "'1;2' is not a number",
+        ),
+        (vec!["--model", "ggx", "--sample", "#x"], "sample name"),
+        (vec!["--model", "ggx", "--append"], "--out"),
+        (vec!["--model", "all"], "invalid value 'all'"),
+    ] {
+        let mut args = base.to_vec();
+        args.extend(extra);
+        let out = stfit(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains(what),
+            "{args:?}: {stderr:?} should say {what:?}"
+        );
+        assert!(out.stdout.is_empty(), "{args:?}: no partial file on stdout");
+    }
+    let out = stfit(&["synth", "--model", "ggx", "--alpha", "-0.1"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("alpha must be > 0"));
+}

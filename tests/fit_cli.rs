@@ -1,0 +1,568 @@
+//! End-to-end tests of the `stfit` binary: `stfit synth` output, and the fit command's table,
+//! JSON and `--out` on data of known truth.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+use stfit_core::bsdf::Masking;
+use stfit_fit::{ModelKind, ModelParams, load_path};
+
+/// A fresh directory for one test under the system temp dir, removed when dropped.
+struct CaseDir(PathBuf);
+
+impl CaseDir {
+    fn new(name: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!("stfit-cli-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        Self(dir)
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+}
+
+impl Drop for CaseDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Runs the binary and returns its output, failing the test (with stderr) unless it succeeds.
+fn stfit_ok(args: &[&str]) -> Output {
+    let out = Command::new(env!("CARGO_BIN_EXE_stfit"))
+        .args(args)
+        .output()
+        .expect("the stfit binary runs");
+    assert!(
+        out.status.success(),
+        "stfit {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+fn p(path: &std::path::Path) -> &str {
+    path.to_str().unwrap()
+}
+
+#[test]
+fn synth_then_load_gives_the_model_values() {
+    let dir = CaseDir::new("roundtrip");
+    for (model, gamma, kind) in [
+        ("student-t", Some("1.8"), ModelKind::StudentT),
+        ("beckmann", None, ModelKind::Beckmann),
+        ("ggx", None, ModelKind::Ggx),
+    ] {
+        let file = dir.path(&format!("{model}.csv"));
+        let mut args = vec![
+            "synth",
+            "--model",
+            model,
+            "--alpha",
+            "0.3",
+            "--scale",
+            "2.5",
+            "--theta-i",
+            "0,45,75",
+            "--theta-o",
+            "150:250:0.5",
+            "--eta",
+            "1.45",
+            "--masking",
+            "correlated",
+            "--sample",
+            "ground, fine",
+            "--out",
+            p(&file),
+        ];
+        if let Some(g) = gamma {
+            args.extend(["--gamma", g]);
+        }
+        stfit_ok(&args);
+        let data = load_path(&file).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(data.samples.len(), 1);
+        let sample = &data.samples[0];
+        assert_eq!(sample.name, "ground, fine");
+        assert_eq!(sample.points.len(), 3 * 201);
+        assert_eq!(sample.points[1].theta_o_deg, 150.5);
+        assert_eq!(sample.points[201].theta_i_deg, 45.0);
+        let truth = ModelParams {
+            kind,
+            alpha: 0.3,
+            gamma: gamma.map_or(f64::NAN, |g| g.parse().unwrap()),
+            scale: 2.5,
+        };
+        let mut positive = 0;
+        for m in &sample.points {
+            let l = truth
+                .l_single(m.theta_i_deg, m.theta_o_deg, 1.45, Masking::Correlated)
+                .unwrap();
+            assert_eq!(m.l, l, "{model} at ({}, {})", m.theta_i_deg, m.theta_o_deg);
+            assert_eq!(m.weight, 1.0);
+            positive += usize::from(l > 0.0);
+        }
+        assert!(
+            positive > 300,
+            "{model}: the grid sees the transmitted lobe"
+        );
+    }
+}
+
+#[test]
+fn synth_is_deterministic_for_a_seed_and_stdout_matches_out() {
+    let dir = CaseDir::new("seed");
+    let args = |seed: &'static str| {
+        vec![
+            "synth",
+            "--model",
+            "student-t",
+            "--alpha",
+            "0.2",
+            "--gamma",
+            "3",
+            "--noise",
+            "0.02",
+            "--seed",
+            seed,
+        ]
+    };
+    let a = stfit_ok(&args("5")).stdout;
+    let b = stfit_ok(&args("5")).stdout;
+    let c = stfit_ok(&args("6")).stdout;
+    assert_eq!(a, b);
+    assert_ne!(a, c);
+    let file = dir.path("a.csv");
+    let mut with_out = args("5");
+    with_out.extend(["--out", p(&file)]);
+    assert!(stfit_ok(&with_out).stdout.is_empty());
+    assert_eq!(std::fs::read(&file).unwrap(), a);
+    let text = String::from_utf8(a).unwrap();
+    assert!(
+        text.starts_with("# stfit "),
+        "records the command: {text:.80}"
+    );
+    assert!(text.contains("--noise 0.02 --seed 5"));
+    assert!(text.contains("\nsample,theta_i_deg,theta_o_deg,L\nsynthetic,0,106,"));
+}
+
+#[test]
+fn synth_noise_is_relative_with_the_requested_sigma() {
+    let dir = CaseDir::new("noise");
+    let clean = dir.path("clean.csv");
+    let noisy = dir.path("noisy.csv");
+    let base = [
+        "synth",
+        "--model",
+        "ggx",
+        "--alpha",
+        "0.25",
+        "--theta-o",
+        "140:220:0.5",
+    ];
+    let mut a = base.to_vec();
+    a.extend(["--out", p(&clean)]);
+    stfit_ok(&a);
+    let mut b = base.to_vec();
+    b.extend(["--noise", "0.05", "--seed", "11", "--out", p(&noisy)]);
+    stfit_ok(&b);
+    let clean = load_path(&clean).unwrap();
+    let noisy = load_path(&noisy).unwrap();
+    let rel: Vec<f64> = clean.samples[0]
+        .points
+        .iter()
+        .zip(&noisy.samples[0].points)
+        .filter(|(c, _)| c.l > 1e-3)
+        .map(|(c, n)| n.l / c.l - 1.0)
+        .collect();
+    let n = rel.len() as f64;
+    assert!(n > 300.0);
+    let mean = rel.iter().sum::<f64>() / n;
+    let sd = (rel.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+    // sd of the sample sd is about sigma / sqrt(2n) < 4%: a 15% band cannot fail by chance.
+    assert!((sd / 0.05 - 1.0).abs() < 0.15, "relative sd {sd}");
+    assert!(mean.abs() < 4.0 * 0.05 / n.sqrt(), "relative mean {mean}");
+}
+
+#[test]
+fn synth_append_puts_several_samples_in_one_file() {
+    let dir = CaseDir::new("append");
+    let file = dir.path("three.csv");
+    for (name, alpha) in [("frosted", "0.2"), ("etched", "0.1"), ("ground", "0.4")] {
+        stfit_ok(&[
+            "synth",
+            "--model",
+            "ggx",
+            "--alpha",
+            alpha,
+            "--sample",
+            name,
+            "--theta-i",
+            "0",
+            "--theta-o",
+            "170:190:10",
+            "--out",
+            p(&file),
+            "--append",
+        ]);
+    }
+    let data = load_path(&file).unwrap();
+    let names: Vec<_> = data.samples.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, ["frosted", "etched", "ground"]);
+    assert!(data.samples.iter().all(|s| s.points.len() == 3));
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert_eq!(text.matches("sample,theta_i_deg").count(), 1);
+
+    let other = dir.path("other.csv");
+    std::fs::write(&other, "theta_i_deg,theta_o_deg,sqrt_L\n0,180,1\n").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_stfit"))
+        .args(["synth", "--model", "ggx", "--alpha", "0.2"])
+        .args(["--out", p(&other), "--append"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("other.csv:1: cannot append"), "{stderr}");
+    assert_eq!(
+        std::fs::read_to_string(&other).unwrap(),
+        "theta_i_deg,theta_o_deg,sqrt_L\n0,180,1\n",
+        "a refused append leaves the file alone"
+    );
+}
+
+/// Writes a two-sample file of known truth: `st` (Student-T alpha 0.2, gamma 3, scale 1.5) and
+/// `gg` (GGX alpha 0.3, scale 0.8), both noiseless on the Walter grid.
+fn known_truth(dir: &CaseDir) -> PathBuf {
+    let file = dir.path("truth.csv");
+    stfit_ok(&[
+        "synth",
+        "--model",
+        "student-t",
+        "--alpha",
+        "0.2",
+        "--gamma",
+        "3",
+        "--scale",
+        "1.5",
+        "--sample",
+        "st",
+        "--out",
+        p(&file),
+        "--append",
+    ]);
+    stfit_ok(&[
+        "synth",
+        "--model",
+        "ggx",
+        "--alpha",
+        "0.3",
+        "--scale",
+        "0.8",
+        "--sample",
+        "gg",
+        "--out",
+        p(&file),
+        "--append",
+    ]);
+    file
+}
+
+fn fits_of(stdout: &[u8]) -> Vec<serde_json::Value> {
+    let doc: serde_json::Value = serde_json::from_slice(stdout).expect("--json prints JSON");
+    let obj = doc.as_object().expect("a JSON object");
+    assert_eq!(obj.keys().collect::<Vec<_>>(), ["fits"]);
+    obj["fits"].as_array().expect("fits is an array").clone()
+}
+
+const KEYS: [&str; 12] = [
+    "alpha",
+    "alpha_stderr",
+    "gamma",
+    "gamma_fixed",
+    "gamma_stderr",
+    "iterations",
+    "model",
+    "n_points",
+    "rmse_sqrt_l",
+    "sample",
+    "scale",
+    "scale_stderr",
+];
+
+#[test]
+fn json_has_every_key_with_its_type_and_recovers_the_truth() {
+    let dir = CaseDir::new("json");
+    let file = known_truth(&dir);
+    let out = stfit_ok(&[p(&file), "--model", "all", "--json"]);
+    let fits = fits_of(&out.stdout);
+    assert_eq!(fits.len(), 8, "2 samples x 4 models");
+    let expected = [
+        ("beckmann", false),
+        ("ggx", false),
+        ("student-t", true),
+        ("student-t", false),
+    ];
+    for (i, fit) in fits.iter().enumerate() {
+        let f = fit.as_object().unwrap();
+        let mut keys: Vec<_> = f.keys().map(String::as_str).collect();
+        keys.sort_unstable();
+        assert_eq!(keys, KEYS);
+        let (model, fixed) = expected[i % 4];
+        assert_eq!(f["sample"], if i < 4 { "st" } else { "gg" });
+        assert_eq!(f["model"], model);
+        assert_eq!(f["gamma_fixed"], fixed);
+        for key in ["alpha", "scale", "rmse_sqrt_l"] {
+            assert!(f[key].as_f64().is_some_and(f64::is_finite), "{key}: {fit}");
+        }
+        for key in ["alpha_stderr", "scale_stderr", "gamma_stderr"] {
+            assert!(f[key].is_null() || f[key].is_f64(), "{key}: {fit}");
+        }
+        assert_eq!(f["n_points"].as_u64(), Some(300), "{fit}");
+        assert!(f["iterations"].is_u64(), "{fit}");
+        if model == "student-t" {
+            assert!(f["gamma"].is_f64(), "{fit}");
+        } else {
+            assert!(f["gamma"].is_null() && f["gamma_stderr"].is_null(), "{fit}");
+        }
+        if fixed {
+            assert_eq!(f["gamma"].as_f64(), Some(3.0));
+        }
+    }
+    // Noiseless data of the model itself: the matching fit recovers the truth and its residual
+    // is (numerically) zero, while the wrong family leaves a visible residual. Student-T with
+    // free gamma on GGX data finds gamma = 2, where Student-T is GGX.
+    let get = |i: usize, k: &str| fits[i][k].as_f64().unwrap();
+    for (i, alpha, gamma, scale) in [
+        (2, 0.2, Some(3.0), 1.5),
+        (3, 0.2, Some(3.0), 1.5),
+        (5, 0.3, None, 0.8),
+        (7, 0.3, Some(2.0), 0.8),
+    ] {
+        assert!((get(i, "alpha") / alpha - 1.0).abs() < 1e-6, "{}", fits[i]);
+        assert!((get(i, "scale") / scale - 1.0).abs() < 1e-6, "{}", fits[i]);
+        if let Some(gamma) = gamma {
+            assert!((get(i, "gamma") / gamma - 1.0).abs() < 1e-6, "{}", fits[i]);
+        }
+        assert!(get(i, "rmse_sqrt_l") < 1e-6, "{}", fits[i]);
+    }
+    for (wrong, right) in [(0, 3), (1, 3), (4, 5), (6, 5)] {
+        assert!(
+            get(wrong, "rmse_sqrt_l") > 0.05,
+            "{} fits {} too well",
+            fits[wrong]["model"],
+            fits[right]["sample"]
+        );
+    }
+}
+
+#[test]
+fn table_lists_each_sample_and_out_stores_the_json() {
+    let dir = CaseDir::new("table");
+    let file = known_truth(&dir);
+    let json = dir.path("fits.json");
+    let out = stfit_ok(&[p(&file), "--out", p(&json)]);
+    let table = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = table.lines().collect();
+    assert_eq!(lines.len(), 3, "{table}");
+    let header: Vec<&str> = lines[0]
+        .split("  ")
+        .filter(|s| !s.is_empty())
+        .map(str::trim)
+        .collect();
+    assert_eq!(
+        header,
+        [
+            "sample",
+            "model",
+            "alpha",
+            "gamma",
+            "scale",
+            "rmse sqrt(L)",
+            "n"
+        ]
+    );
+    assert!(
+        lines[1].starts_with("st ") && lines[1].contains("student-t"),
+        "{table}"
+    );
+    assert!(
+        lines[2].starts_with("gg ") && lines[2].contains("student-t"),
+        "{table}"
+    );
+    assert!(
+        lines[1].contains(" ± ") && lines[1].ends_with(" 300"),
+        "{table}"
+    );
+    let stored = fits_of(&std::fs::read(&json).unwrap());
+    assert_eq!(stored.len(), 2);
+    let printed = fits_of(&stfit_ok(&[p(&file), "--json"]).stdout);
+    assert_eq!(stored, printed, "--out stores what --json prints");
+    // With --json and --out both, stdout and the file are the same document.
+    let json2 = dir.path("fits2.json");
+    let both = stfit_ok(&[p(&file), "--json", "--out", p(&json2)]);
+    assert_eq!(both.stdout, std::fs::read(&json2).unwrap());
+}
+
+#[test]
+fn sample_and_gamma_flags() {
+    let dir = CaseDir::new("flags");
+    let file = known_truth(&dir);
+    let fits = fits_of(&stfit_ok(&[p(&file), "--sample", "gg", "--gamma", "2.5", "--json"]).stdout);
+    assert_eq!(fits.len(), 1);
+    assert_eq!(fits[0]["sample"], "gg");
+    assert_eq!(fits[0]["gamma"].as_f64(), Some(2.5));
+    assert_eq!(fits[0]["gamma_fixed"], true);
+    let fits = fits_of(
+        &stfit_ok(&[
+            p(&file),
+            "--model",
+            "beckmann",
+            "--loss",
+            "linear",
+            "--optimizer",
+            "lbfgs",
+            "--masking",
+            "correlated",
+            "--json",
+        ])
+        .stdout,
+    );
+    assert_eq!(fits.len(), 2);
+    assert!(
+        fits.iter()
+            .all(|f| f["model"] == "beckmann" && f["gamma"].is_null())
+    );
+}
+
+#[test]
+fn multiple_scattering_is_refused_clearly_while_unavailable() {
+    let dir = CaseDir::new("multiple");
+    let file = known_truth(&dir);
+    let out = Command::new(env!("CARGO_BIN_EXE_stfit"))
+        .args([p(&file), "--scattering", "multiple"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        out.stdout.is_empty(),
+        "no single-scattering fit printed instead"
+    );
+    assert!(
+        stderr.starts_with("error: ") && stderr.contains("multiple scattering"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+fn shared_dir() -> PathBuf {
+    std::env::var_os("STFIT_SHARED").map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"),
+        PathBuf::from,
+    )
+}
+
+/// The published comparison from the command line: Student-T fits frosted and etched glass
+/// better than GGX and Beckmann; for ground glass GGX is as good as Student-T.
+#[test]
+fn walter_measurements_fit_from_the_command_line() {
+    let path = shared_dir().join("data/walter2007/measurements.csv");
+    let fits = fits_of(&stfit_ok(&[p(&path), "--model", "all", "--json"]).stdout);
+    assert_eq!(fits.len(), 12);
+    let rmse = |sample: &str, model: &str, fixed: bool| {
+        let f = fits
+            .iter()
+            .find(|f| f["sample"] == sample && f["model"] == model && f["gamma_fixed"] == fixed)
+            .unwrap_or_else(|| panic!("no {model} fit of {sample}"));
+        assert_eq!(f["n_points"].as_u64(), Some(300), "{f}");
+        f["rmse_sqrt_l"].as_f64().unwrap()
+    };
+    for sample in ["frosted", "etched"] {
+        let st = rmse(sample, "student-t", false);
+        let st3 = rmse(sample, "student-t", true);
+        let ggx = rmse(sample, "ggx", false);
+        let beckmann = rmse(sample, "beckmann", false);
+        assert!(
+            st <= st3 && st3 < 0.9 * ggx && ggx < beckmann,
+            "{sample}: {fits:?}"
+        );
+    }
+    let (st, ggx) = (
+        rmse("ground", "student-t", false),
+        rmse("ground", "ggx", false),
+    );
+    assert!((st / ggx - 1.0).abs() < 0.05, "ground: {st} vs {ggx}");
+}
+
+fn repo_file(path: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(path)
+}
+
+/// The commands of `fits/README.md` rebuild `fits/example.csv` (comment lines aside, which
+/// record the version) and its stored fits.
+#[test]
+fn stored_example_data_and_fits_are_reproduced() {
+    let dir = CaseDir::new("example");
+    let file = dir.path("example.csv");
+    for (alpha, gamma, seed, name) in [
+        ("0.2", "3", "1", "frosted"),
+        ("0.45", "2.6", "2", "etched"),
+        ("0.35", "1.8", "3", "ground"),
+    ] {
+        stfit_ok(&[
+            "synth",
+            "--model",
+            "student-t",
+            "--alpha",
+            alpha,
+            "--gamma",
+            gamma,
+            "--noise",
+            "0.02",
+            "--seed",
+            seed,
+            "--sample",
+            name,
+            "--out",
+            p(&file),
+            "--append",
+        ]);
+    }
+    // Rows agree to rounding: later changes to how the model is evaluated may move the last
+    // digits, never more.
+    let rows = |path: &std::path::Path| -> Vec<Vec<String>> {
+        std::fs::read_to_string(path)
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(|l| l.split(',').map(str::to_owned).collect())
+            .collect()
+    };
+    let (made, stored) = (rows(&file), rows(&repo_file("fits/example.csv")));
+    assert_eq!(made.len(), stored.len());
+    assert_eq!(made[0], stored[0]);
+    for (a, b) in made.iter().zip(&stored).skip(1) {
+        assert_eq!(a[..3], b[..3]);
+        let (x, y): (f64, f64) = (a[3].parse().unwrap(), b[3].parse().unwrap());
+        assert!((x - y).abs() <= 1e-12 * y.abs(), "{a:?} vs {b:?}");
+    }
+
+    let stored = fits_of(&std::fs::read(repo_file("fits/example-fits.json")).unwrap());
+    let fresh = fits_of(&stfit_ok(&[p(&file), "--model", "all", "--json"]).stdout);
+    assert_eq!(stored.len(), 12);
+    assert_eq!(fresh.len(), stored.len());
+    for (a, b) in fresh.iter().zip(&stored) {
+        for key in KEYS {
+            match (a[key].as_f64(), b[key].as_f64()) {
+                (Some(x), Some(y)) if key != "iterations" && key != "n_points" => {
+                    assert!(
+                        (x - y).abs() <= 1e-6 * y.abs().max(1e-3),
+                        "{key}: {a} vs {b}"
+                    );
+                }
+                _ => assert_eq!(a[key], b[key], "{key}"),
+            }
+        }
+    }
+}
