@@ -34,6 +34,9 @@ enum Command {
     /// Evaluate the single-scattering rough dielectric BSDF (f * |wo.z|) for directions read
     /// as CSV on stdin.
     Eval(cmd::eval::Args),
+    /// Figure-1-style plots (SVG and PNG) of the four model fits of every sample, an overview,
+    /// residuals, the fitted NDFs and a markdown table of the fits.
+    Report(cmd::report::ReportArgs),
 }
 
 fn main() -> ExitCode {
@@ -42,6 +45,7 @@ fn main() -> ExitCode {
         None => cmd::fit::run(cli.fit),
         Some(Command::Synth(args)) => cmd::synth::run(args),
         Some(Command::Eval(args)) => cmd::eval::run(&args).map_err(cmd::CmdError::Failed),
+        Some(Command::Report(args)) => cmd::report::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

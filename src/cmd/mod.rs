@@ -11,6 +11,7 @@ use stfit_fit::LoadError;
 
 pub mod eval;
 pub mod fit;
+pub mod report;
 pub mod synth;
 
 /// Why a command failed. The binary prints `error: <message>` and exits with [`exit_code`].

@@ -71,7 +71,7 @@ pub fn fmt_sig(x: f64, sig: usize) -> String {
         return "0".to_string();
     }
     let mag = x.abs().log10().floor() as i32;
-    if (-3..6).contains(&mag) {
+    if (-5..6).contains(&mag) {
         let decimals = (sig as i32 - 1 - mag).max(0) as usize;
         format!("{x:.decimals$}")
     } else {

@@ -497,7 +497,8 @@ fn fmt_sig_formats() {
     assert_eq!(fmt_sig(3.0, 4), "3.000");
     assert_eq!(fmt_sig(1234.5, 3), "1234");
     assert_eq!(fmt_sig(0.0, 3), "0");
-    assert_eq!(fmt_sig(1.5e-5, 2), "1.5e-5");
+    assert_eq!(fmt_sig(1.5e-5, 2), "0.000015");
+    assert_eq!(fmt_sig(1.5e-6, 2), "1.5e-6");
     assert_eq!(fmt_sig(f64::NAN, 2), "NaN");
 }
 
