@@ -184,6 +184,7 @@ fn draw_fit_panel<DB: DrawingBackend>(
         .label_style((FONT, look.tick))
         .axis_desc_style((FONT, look.body))
         .x_label_formatter(&|v| format!("{v:.0}"))
+        .y_label_formatter(&|v| fmt_tick(*v, y1 - y0))
         .x_desc("θo (degrees)")
         .y_desc(y_desc)
         .draw()?;
@@ -337,6 +338,27 @@ impl Figure for OverviewFigure<'_> {
             }
         }
         Ok(())
+    }
+}
+
+/// A linear-axis tick: `v` rounded to a thousandth of the axis span and printed in its
+/// shortest form, so ticks read `0.2`, `0`, `1.5` (never `-0.0` or `0.30000000000000004`).
+pub fn fmt_tick(v: f64, span: f64) -> String {
+    if !(v.is_finite() && span.is_finite() && span > 0.0) {
+        return format!("{v}");
+    }
+    let k = 3 - span.log10().floor() as i32;
+    let r = if k >= 0 {
+        let m = 10f64.powi(k.min(22));
+        (v * m).round() / m
+    } else {
+        let m = 10f64.powi((-k).min(22));
+        (v / m).round() * m
+    };
+    if r == 0.0 {
+        "0".to_string()
+    } else {
+        format!("{r}")
     }
 }
 

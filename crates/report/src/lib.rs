@@ -34,7 +34,7 @@ use stfit_core::bsdf::Masking;
 use stfit_fit::{Dataset, FitResult};
 
 pub use error::ReportError;
-pub use figures::clip_below;
+pub use figures::{clip_below, fmt_tick};
 pub use style::fmt_sig;
 pub use table::fits_markdown;
 pub use view::ModelSlot;

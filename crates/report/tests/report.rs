@@ -492,6 +492,18 @@ fn clip_below_cuts_at_the_floor_in_log_space() {
 }
 
 #[test]
+fn ticks_are_short_and_never_negative_zero() {
+    use stfit_report::fmt_tick;
+    assert_eq!(fmt_tick(-1e-17, 1.2), "0");
+    assert_eq!(fmt_tick(0.7000000000000001, 1.2), "0.7");
+    assert_eq!(fmt_tick(0.30000000000000004, 3.2), "0.3");
+    assert_eq!(fmt_tick(-0.4, 1.2), "-0.4");
+    assert_eq!(fmt_tick(2.0, 3.2), "2");
+    assert_eq!(fmt_tick(0.0125, 0.05), "0.0125");
+    assert_eq!(fmt_tick(25000.0, 50000.0), "25000");
+}
+
+#[test]
 fn fmt_sig_formats() {
     assert_eq!(fmt_sig(0.123456, 4), "0.1235");
     assert_eq!(fmt_sig(3.0, 4), "3.000");
