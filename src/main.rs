@@ -36,6 +36,9 @@ enum Command {
     Eval(cmd::eval::Args),
     /// Fractions of the incident flux a rough dielectric reflects and transmits, by random walk.
     Albedo(cmd::albedo::Args),
+    /// Figure-1-style plots (SVG and PNG) of the four model fits of every sample, an overview,
+    /// residuals, the fitted NDFs and a markdown table of the fits.
+    Report(cmd::report::ReportArgs),
 }
 
 fn main() -> ExitCode {
@@ -45,6 +48,7 @@ fn main() -> ExitCode {
         Some(Command::Synth(args)) => cmd::synth::run(args),
         Some(Command::Eval(args)) => cmd::eval::run(&args).map_err(cmd::CmdError::Failed),
         Some(Command::Albedo(args)) => cmd::albedo::run(&args),
+        Some(Command::Report(args)) => cmd::report::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -12,6 +12,7 @@ use stfit_fit::LoadError;
 pub mod albedo;
 pub mod eval;
 pub mod fit;
+pub mod report;
 pub mod synth;
 
 /// Why a command failed. The binary prints `error: <message>` and exits with [`exit_code`].

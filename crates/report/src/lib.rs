@@ -1,1 +1,322 @@
-pub fn _placeholder() {}
+//! stfit-report: Figure-1-style comparison plots of fitted microfacet models against measured
+//! transmission through rough glass, as SVG and PNG, and a markdown table of the fits.
+//!
+//! The data convention is that of `stfit-fit` (theory section 8): light from air at `theta_i`,
+//! `theta_o` the transmitted direction inside the glass (180 degrees straight through), and the
+//! plotted quantity `sqrt(L)` (the published view) or `L`, with model curves
+//! `L = scale * f_t(wi, wo) * cos(theta_i) / eta^2` from the single-scattering BTDF.
+//!
+//! [`render_report`] draws everything in memory; [`Report::write_to`] writes it to a folder:
+//!
+//! - `<sample>-fits.{svg,png}`: four panels (Beckmann, GGX, Student-T with gamma fixed,
+//!   Student-T with gamma free), measurements as markers and the model as lines, one colour per
+//!   incidence angle (the same in every figure), 1600 x 1200 px;
+//! - `<sample>-residuals.{svg,png}`: measured minus model, same layout;
+//! - `overview.{svg,png}`: samples as rows, models as columns;
+//! - `ndf.{svg,png}`: the fitted `D(theta_m)` on a log scale, one panel per sample;
+//! - `fits.md`: every fit as a table.
+//!
+//! Text uses DejaVu Sans embedded from the `dejavu` crate; no system fonts or libraries are
+//! needed.
+
+mod error;
+mod figures;
+mod render;
+mod style;
+mod table;
+mod view;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+use stfit_core::bsdf::Masking;
+use stfit_fit::{Dataset, FitResult};
+
+pub use error::ReportError;
+pub use figures::{clip_below, fmt_tick};
+pub use style::fmt_sig;
+pub use table::fits_markdown;
+pub use view::ModelSlot;
+
+use figures::{NdfFigure, OverviewFigure, SampleFigure};
+use render::{Figure, render_png, render_svg};
+use style::AnglePalette;
+use view::SampleView;
+
+/// The quantity on the vertical axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum YScale {
+    /// `sqrt(L)`, the published view: tails and peak on one readable scale.
+    #[default]
+    Sqrt,
+    /// `L` itself.
+    Linear,
+}
+
+/// How to draw a report. `eta` and `masking` must be those the fits were made with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReportOptions {
+    pub y_scale: YScale,
+    /// Relative index of the glass (1.51 for the Walter data).
+    pub eta: f64,
+    pub masking: Masking,
+}
+
+impl Default for ReportOptions {
+    fn default() -> Self {
+        Self {
+            y_scale: YScale::Sqrt,
+            eta: 1.51,
+            masking: Masking::Separable,
+        }
+    }
+}
+
+/// The stored-fits JSON written by `stfit fit --json`: `{"fits": [FitResult, ...]}`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitsFile {
+    pub fits: Vec<FitResult>,
+}
+
+/// Parses stored fits (`{"fits": [...]}`).
+pub fn read_fits_json(json: &str) -> Result<Vec<FitResult>, ReportError> {
+    Ok(serde_json::from_str::<FitsFile>(json)?.fits)
+}
+
+/// One output file, in memory.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ReportFile {
+    /// File name inside the report folder.
+    pub name: String,
+    pub contents: Vec<u8>,
+}
+
+/// A rendered report.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Report {
+    pub files: Vec<ReportFile>,
+    /// Non-fatal findings, such as a stored rmse that the data and the fitted parameters do not
+    /// reproduce (fits of other data, or made with other options).
+    pub warnings: Vec<String>,
+}
+
+impl Report {
+    /// The file called `name`, if the report has one.
+    pub fn file(&self, name: &str) -> Option<&ReportFile> {
+        self.files.iter().find(|f| f.name == name)
+    }
+
+    /// Writes every file into `dir` (created if missing) and returns their paths.
+    pub fn write_to(&self, dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
+        let io = |path: &Path| {
+            let path = path.to_path_buf();
+            move |source| ReportError::Io { path, source }
+        };
+        std::fs::create_dir_all(dir).map_err(io(dir))?;
+        self.files
+            .iter()
+            .map(|f| {
+                let path = dir.join(&f.name);
+                std::fs::write(&path, &f.contents).map_err(io(&path))?;
+                Ok(path)
+            })
+            .collect()
+    }
+}
+
+/// A file-name stem for a sample: ASCII letters, digits, `-`, `_` and `.` kept, anything else
+/// replaced by `_`; `sample` for an unnamed one.
+pub fn file_stem(sample: &str) -> String {
+    if sample.is_empty() {
+        return "sample".to_string();
+    }
+    sample
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// Relative difference above which a stored rmse counts as not reproduced.
+const RMSE_TOLERANCE: f64 = 1e-6;
+
+/// The points a fit uses: those of weight > 0.
+fn fitted_points(sample: &stfit_fit::Sample) -> usize {
+    sample.points.iter().filter(|m| m.weight > 0.0).count()
+}
+
+/// Assigns each fit to its sample and panel, checking that it belongs there.
+fn assign_fits<'a>(
+    data: &'a Dataset,
+    fits: &'a [FitResult],
+) -> Result<Vec<[Option<&'a FitResult>; 4]>, ReportError> {
+    let index: HashMap<&str, usize> = data
+        .samples
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (s.name.as_str(), i))
+        .collect();
+    let mut slots = vec![[None; 4]; data.samples.len()];
+    for fit in fits {
+        let slot = ModelSlot::of(fit);
+        let i = *index
+            .get(fit.sample.as_str())
+            .ok_or_else(|| ReportError::UnknownSample {
+                sample: fit.sample.clone(),
+                model: slot.title().to_string(),
+            })?;
+        let data_points = fitted_points(&data.samples[i]);
+        if fit.n_points != data_points {
+            return Err(ReportError::PointCount {
+                sample: fit.sample.clone(),
+                model: slot.title().to_string(),
+                fit_points: fit.n_points,
+                data_points,
+            });
+        }
+        let cell = &mut slots[i][slot.index()];
+        if cell.is_some() {
+            return Err(ReportError::DuplicateFit {
+                sample: fit.sample.clone(),
+                model: slot.title().to_string(),
+            });
+        }
+        *cell = Some(fit);
+    }
+    Ok(slots)
+}
+
+fn push_figure(
+    files: &mut Vec<ReportFile>,
+    stem: &str,
+    fig: &impl Figure,
+) -> Result<(), ReportError> {
+    files.push(ReportFile {
+        name: format!("{stem}.svg"),
+        contents: render_svg(fig)?.into_bytes(),
+    });
+    files.push(ReportFile {
+        name: format!("{stem}.png"),
+        contents: render_png(fig)?,
+    });
+    Ok(())
+}
+
+/// Draws the report of `fits` (any subset of the four panels per sample; panels without a fit
+/// show the data alone) against `data`. Every fit must name a sample of `data`, have been made
+/// on its number of points of weight > 0, and be the only one of its model for that sample.
+/// Points of weight 0 are drawn hollow.
+pub fn render_report(
+    data: &Dataset,
+    fits: &[FitResult],
+    opts: &ReportOptions,
+) -> Result<Report, ReportError> {
+    if data.samples.is_empty() {
+        return Err(ReportError::NoSamples);
+    }
+    stfit_core::error::check_eta(opts.eta).map_err(ReportError::Options)?;
+    let slots = assign_fits(data, fits)?;
+
+    let mut stems: HashMap<String, &str> = HashMap::new();
+    for s in &data.samples {
+        if let Some(other) = stems.insert(file_stem(&s.name), &s.name) {
+            return Err(ReportError::FileNameClash(
+                other.to_string(),
+                s.name.clone(),
+                file_stem(&s.name),
+            ));
+        }
+    }
+
+    let views = data
+        .samples
+        .iter()
+        .zip(slots)
+        .map(|(s, f)| SampleView::new(s, f, opts))
+        .collect::<Result<Vec<_>, _>>()?;
+    let palette = AnglePalette::new(
+        data.samples
+            .iter()
+            .flat_map(|s| s.points.iter().map(|m| m.theta_i_deg)),
+    );
+
+    let mut warnings = Vec::new();
+    for view in &views {
+        for p in view.panels.iter().flatten() {
+            let stored = p.fit.rmse_sqrt_l;
+            if (p.rmse_sqrt_l - stored).abs() > RMSE_TOLERANCE * stored.abs().max(1e-3) {
+                warnings.push(format!(
+                    "sample `{}`, {}: the stored rmse of sqrt(L) is {} but the data and the \
+                     fitted parameters give {} (single scattering, eta {}); the fit may come \
+                     from other data or other options",
+                    view.title(),
+                    ModelSlot::of(p.fit).title(),
+                    fmt_sig(stored, 6),
+                    fmt_sig(p.rmse_sqrt_l, 6),
+                    opts.eta
+                ));
+            }
+        }
+    }
+
+    let mut files = Vec::new();
+    let mut figure_names = Vec::new();
+    for view in &views {
+        let stem = file_stem(view.name);
+        push_figure(
+            &mut files,
+            &format!("{stem}-fits"),
+            &SampleFigure::fits(view, &palette, opts.y_scale),
+        )?;
+        push_figure(
+            &mut files,
+            &format!("{stem}-residuals"),
+            &SampleFigure::residuals(view, &palette, opts.y_scale),
+        )?;
+        figure_names.push((
+            view.title().to_string(),
+            format!("{stem}-fits.png"),
+            format!("{stem}-residuals.png"),
+        ));
+    }
+    let overview = OverviewFigure {
+        views: &views,
+        palette: &palette,
+        y_scale: opts.y_scale,
+    };
+    push_figure(&mut files, "overview", &overview)?;
+    push_figure(&mut files, "ndf", &NdfFigure { views: &views })?;
+
+    let by_sample: Vec<(&str, Vec<&FitResult>)> = views
+        .iter()
+        .map(|v| {
+            (
+                v.title(),
+                v.panels.iter().flatten().map(|p| p.fit).collect(),
+            )
+        })
+        .collect();
+    files.push(ReportFile {
+        name: "fits.md".to_string(),
+        contents: fits_markdown(&by_sample, &figure_names, opts).into_bytes(),
+    });
+    Ok(Report { files, warnings })
+}
+
+/// [`render_report`], then [`Report::write_to`] `dir`.
+pub fn write_report(
+    data: &Dataset,
+    fits: &[FitResult],
+    dir: &Path,
+    opts: &ReportOptions,
+) -> Result<Report, ReportError> {
+    let report = render_report(data, fits, opts)?;
+    report.write_to(dir)?;
+    Ok(report)
+}

@@ -1,0 +1,72 @@
+//! Typed errors of report generation.
+
+use std::path::PathBuf;
+
+use plotters::drawing::DrawingAreaErrorKind;
+use stfit_core::ParamError;
+use thiserror::Error;
+
+/// Why a report could not be made.
+#[derive(Debug, Error)]
+pub enum ReportError {
+    /// The dataset has no samples (or `--sample` matched none).
+    #[error("no samples to report")]
+    NoSamples,
+    /// A sample has no measurements.
+    #[error("sample `{0}` has no measurements")]
+    EmptySample(String),
+    /// The report options are invalid (for example `eta`).
+    #[error("invalid report option: {0}")]
+    Options(#[source] ParamError),
+    /// A fit names a sample that is not in the data.
+    #[error("fit of model {model} names sample `{sample}`, which is not in the data")]
+    UnknownSample { sample: String, model: String },
+    /// Two fits fill the same panel of one sample.
+    #[error("sample `{sample}` has more than one {model} fit")]
+    DuplicateFit { sample: String, model: String },
+    /// A fit was made on a different number of points than the data has: stale or foreign fits.
+    #[error(
+        "{model} fit of sample `{sample}` was made on {fit_points} points, the data has {data_points}"
+    )]
+    PointCount {
+        sample: String,
+        model: String,
+        fit_points: usize,
+        data_points: usize,
+    },
+    /// A fit's parameters do not describe a valid model.
+    #[error("{model} fit of sample `{sample}` is invalid: {reason}")]
+    InvalidFit {
+        sample: String,
+        model: String,
+        reason: String,
+    },
+    /// Two samples map to the same file name.
+    #[error("samples `{0}` and `{1}` would be written to the same file `{2}`")]
+    FileNameClash(String, String, String),
+    /// The embedded font could not be registered with plotters.
+    #[error("the embedded DejaVu Sans font could not be registered")]
+    Font,
+    /// Drawing failed in plotters.
+    #[error("drawing failed: {0}")]
+    Draw(String),
+    /// PNG encoding failed.
+    #[error("PNG encoding failed: {0}")]
+    Png(#[from] png::EncodingError),
+    /// Stored fits could not be parsed.
+    #[error("stored fits are not valid JSON of the form {{\"fits\": [...]}}: {0}")]
+    Json(#[from] serde_json::Error),
+    /// A file or directory could not be written.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for ReportError {
+    fn from(e: DrawingAreaErrorKind<E>) -> Self {
+        Self::Draw(e.to_string())
+    }
+}

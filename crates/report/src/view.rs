@@ -1,0 +1,304 @@
+//! What the figures show, computed once per sample: measured points grouped by incidence
+//! angle, and for every fitted model its curves and residuals in the plotted scale.
+
+use stfit_core::ndf::{AnyNdf, Ndf};
+use stfit_core::{ParamError, Vec3};
+use stfit_fit::{FitResult, ModelKind, ModelParams, Sample};
+
+use crate::{ReportError, ReportOptions, YScale};
+
+/// Points per model curve across the measured range of `theta_o`.
+const CURVE_POINTS: usize = 401;
+
+/// The four panels of a sample figure, in the seed paper's order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ModelSlot {
+    Beckmann,
+    Ggx,
+    /// Student-T with gamma held fixed (3 in the published comparison).
+    StudentTFixed,
+    /// Student-T with gamma fitted.
+    StudentTFree,
+}
+
+impl ModelSlot {
+    /// Every slot, in panel order.
+    pub const ALL: [Self; 4] = [
+        Self::Beckmann,
+        Self::Ggx,
+        Self::StudentTFixed,
+        Self::StudentTFree,
+    ];
+
+    /// The panel a fit belongs to.
+    pub fn of(fit: &FitResult) -> Self {
+        match (fit.model, fit.gamma_fixed) {
+            (ModelKind::Beckmann, _) => Self::Beckmann,
+            (ModelKind::Ggx, _) => Self::Ggx,
+            (ModelKind::StudentT, true) => Self::StudentTFixed,
+            (ModelKind::StudentT, false) => Self::StudentTFree,
+        }
+    }
+
+    /// The panel's position, 0 to 3.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// Human-readable model name for titles and tables.
+    pub fn title(self) -> &'static str {
+        match self {
+            Self::Beckmann => "Beckmann",
+            Self::Ggx => "GGX",
+            Self::StudentTFixed => "Student-T, γ fixed",
+            Self::StudentTFree => "Student-T, γ free",
+        }
+    }
+}
+
+/// A measured point in plot coordinates: `(theta_o in degrees, y)`.
+pub(crate) type Point = (f64, f64);
+
+/// The measurements of one incidence angle.
+#[derive(Debug, Clone)]
+pub(crate) struct AngleGroup {
+    pub theta_i_deg: f64,
+    /// Measured points sorted by `theta_o`, y in the report's scale.
+    pub points: Vec<Point>,
+    /// The measured `L` of each point (same order), for residuals.
+    pub l: Vec<f64>,
+    /// Whether each point was fitted: points of weight 0 are plotted hollow and left out of
+    /// the rmse, as the fit leaves them out.
+    pub fitted: Vec<bool>,
+}
+
+/// One fitted model of a sample, evaluated for plotting.
+#[derive(Debug, Clone)]
+pub(crate) struct PanelView<'a> {
+    pub fit: &'a FitResult,
+    pub ndf: AnyNdf,
+    /// One curve per [`AngleGroup`], y in the report's scale.
+    pub curves: Vec<Vec<Point>>,
+    /// Measured minus model, in the report's scale, per [`AngleGroup`].
+    pub residuals: Vec<Vec<Point>>,
+    /// The rmse of `sqrt(L)` over the fitted points (weight > 0), recomputed from the data and
+    /// the fitted parameters.
+    pub rmse_sqrt_l: f64,
+}
+
+/// A sample with everything its figures need.
+#[derive(Debug, Clone)]
+pub(crate) struct SampleView<'a> {
+    pub name: &'a str,
+    pub groups: Vec<AngleGroup>,
+    /// Range of `theta_o` covered by the measurements, degrees.
+    pub theta_o_range: (f64, f64),
+    pub panels: [Option<PanelView<'a>>; 4],
+}
+
+impl YScale {
+    /// The plotted value of an `L`: `sqrt(L)` (signed, so negative measured values stay
+    /// visible) or `L` itself.
+    pub fn apply(self, l: f64) -> f64 {
+        match self {
+            Self::Sqrt => l.signum() * l.abs().sqrt(),
+            Self::Linear => l,
+        }
+    }
+
+    /// Axis label of the plotted quantity.
+    pub(crate) fn label(self) -> &'static str {
+        match self {
+            Self::Sqrt => "√L",
+            Self::Linear => "L",
+        }
+    }
+}
+
+/// The model a fit describes, or why it describes none.
+pub(crate) fn model_params(fit: &FitResult) -> Result<(ModelParams, AnyNdf), ReportError> {
+    let invalid = |reason: String| ReportError::InvalidFit {
+        sample: fit.sample.clone(),
+        model: ModelSlot::of(fit).title().to_string(),
+        reason,
+    };
+    let gamma = match (fit.model, fit.gamma) {
+        (ModelKind::StudentT, Some(g)) => g,
+        (ModelKind::StudentT, None) => return Err(invalid("Student-T without gamma".into())),
+        // Ignored by Beckmann and GGX.
+        (_, _) => f64::NAN,
+    };
+    if !(fit.scale.is_finite() && fit.scale > 0.0) {
+        return Err(invalid(format!(
+            "scale must be finite and > 0, got {}",
+            fit.scale
+        )));
+    }
+    let params = ModelParams {
+        kind: fit.model,
+        alpha: fit.alpha,
+        gamma,
+        scale: fit.scale,
+    };
+    let ndf = params.ndf().map_err(|e| invalid(e.to_string()))?;
+    Ok((params, ndf))
+}
+
+/// Groups a sample's points by incidence angle (ascending) and sorts each group by `theta_o`.
+fn angle_groups(sample: &Sample, y: YScale) -> Vec<AngleGroup> {
+    let mut points: Vec<_> = sample.points.iter().collect();
+    points.sort_by(|a, b| {
+        a.theta_i_deg
+            .total_cmp(&b.theta_i_deg)
+            .then(a.theta_o_deg.total_cmp(&b.theta_o_deg))
+    });
+    let mut groups: Vec<AngleGroup> = Vec::new();
+    for m in points {
+        if groups.last().is_none_or(|g| g.theta_i_deg != m.theta_i_deg) {
+            groups.push(AngleGroup {
+                theta_i_deg: m.theta_i_deg,
+                points: Vec::new(),
+                l: Vec::new(),
+                fitted: Vec::new(),
+            });
+        }
+        let g = groups.last_mut().expect("a group was just pushed");
+        g.points.push((m.theta_o_deg, y.apply(m.l)));
+        g.l.push(m.l);
+        g.fitted.push(m.weight > 0.0);
+    }
+    groups
+}
+
+fn panel_view<'a>(
+    fit: &'a FitResult,
+    groups: &[AngleGroup],
+    (x0, x1): (f64, f64),
+    opts: &ReportOptions,
+) -> Result<PanelView<'a>, ReportError> {
+    let (params, ndf) = model_params(fit)?;
+    let invalid = |e: ParamError| ReportError::InvalidFit {
+        sample: fit.sample.clone(),
+        model: ModelSlot::of(fit).title().to_string(),
+        reason: e.to_string(),
+    };
+    let y = opts.y_scale;
+    let mut curves = Vec::with_capacity(groups.len());
+    let mut residuals = Vec::with_capacity(groups.len());
+    let (mut sum_sq, mut n) = (0.0, 0usize);
+    for g in groups {
+        let curve = (0..CURVE_POINTS)
+            .map(|k| {
+                let x = x0 + (x1 - x0) * k as f64 / (CURVE_POINTS - 1) as f64;
+                let l = params.l_single(g.theta_i_deg, x, opts.eta, opts.masking)?;
+                Ok((x, y.apply(l)))
+            })
+            .collect::<Result<Vec<_>, ParamError>>()
+            .map_err(invalid)?;
+        let mut res = Vec::with_capacity(g.points.len());
+        for ((&(x, y_meas), &l_meas), &fitted) in g.points.iter().zip(&g.l).zip(&g.fitted) {
+            let l = params
+                .l_single(g.theta_i_deg, x, opts.eta, opts.masking)
+                .map_err(invalid)?;
+            res.push((x, y_meas - y.apply(l)));
+            if fitted {
+                let d = YScale::Sqrt.apply(l_meas) - YScale::Sqrt.apply(l);
+                sum_sq += d * d;
+                n += 1;
+            }
+        }
+        curves.push(curve);
+        residuals.push(res);
+    }
+    Ok(PanelView {
+        fit,
+        ndf,
+        curves,
+        residuals,
+        rmse_sqrt_l: (sum_sq / n.max(1) as f64).sqrt(),
+    })
+}
+
+impl<'a> SampleView<'a> {
+    /// The sample's name for titles; `(unnamed)` for a file without a `sample` column.
+    pub(crate) fn title(&self) -> &str {
+        if self.name.is_empty() {
+            "(unnamed)"
+        } else {
+            self.name
+        }
+    }
+
+    /// Prepares a sample and its fits (already checked to belong to it, at most one per slot).
+    pub(crate) fn new(
+        sample: &'a Sample,
+        fits: [Option<&'a FitResult>; 4],
+        opts: &ReportOptions,
+    ) -> Result<Self, ReportError> {
+        if sample.points.is_empty() {
+            return Err(ReportError::EmptySample(sample.name.clone()));
+        }
+        let groups = angle_groups(sample, opts.y_scale);
+        let (x0, x1) = sample
+            .points
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), m| {
+                (lo.min(m.theta_o_deg), hi.max(m.theta_o_deg))
+            });
+        let mut panels: [Option<PanelView<'a>>; 4] = Default::default();
+        for (panel, fit) in panels.iter_mut().zip(fits) {
+            if let Some(fit) = fit {
+                *panel = Some(panel_view(fit, &groups, (x0, x1), opts)?);
+            }
+        }
+        Ok(Self {
+            name: &sample.name,
+            groups,
+            theta_o_range: (x0, x1),
+            panels,
+        })
+    }
+
+    /// Whether any point has weight 0 (drawn hollow, not fitted).
+    pub(crate) fn has_unfitted(&self) -> bool {
+        self.groups.iter().any(|g| g.fitted.contains(&false))
+    }
+
+    /// Smallest and largest plotted value of data and model curves.
+    pub(crate) fn y_extent(&self) -> (f64, f64) {
+        let data = self.groups.iter().flat_map(|g| g.points.iter());
+        let curves = self
+            .panels
+            .iter()
+            .flatten()
+            .flat_map(|p| p.curves.iter().flatten());
+        extent(data.chain(curves).map(|p| p.1))
+    }
+
+    /// Smallest and largest residual over every panel.
+    pub(crate) fn residual_extent(&self) -> (f64, f64) {
+        extent(
+            self.panels
+                .iter()
+                .flatten()
+                .flat_map(|p| p.residuals.iter().flatten())
+                .map(|p| p.1),
+        )
+    }
+}
+
+/// Finite minimum and maximum, `(0, 0)` when there are none.
+pub(crate) fn extent(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo <= hi { (lo, hi) } else { (0.0, 0.0) }
+}
+
+/// `D(theta_m)` of an NDF for a facet tilted by `theta_m_deg` degrees.
+pub(crate) fn ndf_at_deg(ndf: &AnyNdf, theta_m_deg: f64) -> f64 {
+    let t = theta_m_deg.to_radians();
+    ndf.d(Vec3::new(t.sin(), 0.0, t.cos()))
+}

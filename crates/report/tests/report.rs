@@ -1,0 +1,608 @@
+//! Library-level tests of the report: files, sizes, text content, stored fits, errors.
+
+use std::path::PathBuf;
+
+use stfit_core::bsdf::Masking;
+use stfit_fit::{Dataset, FitResult, Measurement, ModelKind, ModelParams, Sample};
+use stfit_report::{
+    ModelSlot, ReportError, ReportOptions, YScale, clip_below, file_stem, fits_markdown, fmt_sig,
+    read_fits_json, render_report,
+};
+
+const ETA: f64 = 1.51;
+const ANGLES: [f64; 4] = [0.0, 30.0, 60.0, 80.0];
+
+fn params(kind: ModelKind, alpha: f64, gamma: f64, scale: f64) -> ModelParams {
+    ModelParams {
+        kind,
+        alpha,
+        gamma,
+        scale,
+    }
+}
+
+/// A sample made with the single-scattering model, 4 x 75 points over the Walter range of
+/// `theta_o`, with a deterministic small wobble standing in for measurement noise.
+fn synth_sample(name: &str, truth: ModelParams, wobble: f64) -> Sample {
+    let mut points = Vec::new();
+    for (a, &ti) in ANGLES.iter().enumerate() {
+        for k in 0..75 {
+            let to = 105.82 + (253.89 - 105.82) * k as f64 / 74.0;
+            let l = truth.l_single(ti, to, ETA, Masking::Separable).unwrap();
+            let noise = 1.0 + wobble * ((k * 7 + a * 3) as f64).sin();
+            points.push(Measurement {
+                theta_i_deg: ti,
+                theta_o_deg: to,
+                l: l * noise,
+                weight: 1.0,
+            });
+        }
+    }
+    Sample {
+        name: name.to_string(),
+        points,
+    }
+}
+
+fn dataset() -> Dataset {
+    Dataset {
+        source: PathBuf::from("synthetic"),
+        samples: vec![
+            synth_sample(
+                "frosted-like",
+                params(ModelKind::StudentT, 0.25, 2.6, 1.0),
+                0.05,
+            ),
+            synth_sample(
+                "ground glass",
+                params(ModelKind::StudentT, 0.4, 1.9, 0.8),
+                0.03,
+            ),
+        ],
+    }
+}
+
+/// rmse of sqrt(L) of a model over a sample, computed here independently of the report.
+fn rmse(sample: &Sample, p: &ModelParams) -> f64 {
+    let ss: f64 = sample
+        .points
+        .iter()
+        .map(|m| {
+            let l = p
+                .l_single(m.theta_i_deg, m.theta_o_deg, ETA, Masking::Separable)
+                .unwrap();
+            (m.l.sqrt() - l.sqrt()).powi(2)
+        })
+        .sum();
+    (ss / sample.points.len() as f64).sqrt()
+}
+
+fn fit(sample: &Sample, p: ModelParams, gamma_fixed: bool) -> FitResult {
+    FitResult {
+        sample: sample.name.clone(),
+        model: p.kind,
+        alpha: p.alpha,
+        gamma: (p.kind == ModelKind::StudentT).then_some(p.gamma),
+        gamma_fixed,
+        scale: p.scale,
+        rmse_sqrt_l: rmse(sample, &p),
+        n_points: sample.points.len(),
+        alpha_stderr: 0.001,
+        gamma_stderr: (p.kind == ModelKind::StudentT && !gamma_fixed).then_some(0.05),
+        scale_stderr: 0.004,
+        iterations: 42,
+    }
+}
+
+/// Plausible fits of all four models for every sample (parameters near the truth, rmse exact).
+fn fits(data: &Dataset) -> Vec<FitResult> {
+    let mut out = Vec::new();
+    for (i, s) in data.samples.iter().enumerate() {
+        let a = [0.25, 0.4][i];
+        out.push(fit(
+            s,
+            params(ModelKind::Beckmann, a * 0.9, 0.0, 0.9),
+            false,
+        ));
+        out.push(fit(s, params(ModelKind::Ggx, a * 0.8, 0.0, 1.1), false));
+        out.push(fit(s, params(ModelKind::StudentT, a, 3.0, 1.0), true));
+        out.push(fit(
+            s,
+            params(ModelKind::StudentT, a * 1.01, [2.6, 1.9][i], 0.99),
+            false,
+        ));
+    }
+    out
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn svg(report: &stfit_report::Report, name: &str) -> String {
+    String::from_utf8(report.file(name).expect(name).contents.clone()).unwrap()
+}
+
+fn png_size(bytes: &[u8]) -> (u32, u32, png::ColorType) {
+    let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+    let reader = decoder.read_info().unwrap();
+    let info = reader.info();
+    (info.width, info.height, info.color_type)
+}
+
+#[test]
+fn report_writes_every_file() {
+    let data = dataset();
+    let dir = out_dir("every-file");
+    let report =
+        stfit_report::write_report(&data, &fits(&data), &dir, &ReportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let mut expected = vec!["fits.md".to_string()];
+    for stem in ["frosted-like", "ground_glass"] {
+        for kind in ["fits", "residuals"] {
+            for ext in ["svg", "png"] {
+                expected.push(format!("{stem}-{kind}.{ext}"));
+            }
+        }
+    }
+    for fig in ["overview", "ndf"] {
+        for ext in ["svg", "png"] {
+            expected.push(format!("{fig}.{ext}"));
+        }
+    }
+    let mut names: Vec<String> = report.files.iter().map(|f| f.name.clone()).collect();
+    names.sort();
+    expected.sort();
+    assert_eq!(names, expected);
+    for name in &expected {
+        let on_disk = std::fs::read(dir.join(name)).unwrap();
+        assert!(on_disk.len() > 100, "{name} is nearly empty");
+        assert_eq!(on_disk, report.file(name).unwrap().contents, "{name}");
+    }
+}
+
+#[test]
+fn svgs_contain_panel_titles_and_legends() {
+    let data = dataset();
+    let all = fits(&data);
+    let report = render_report(&data, &all, &ReportOptions::default()).unwrap();
+    let fig = svg(&report, "frosted-like-fits.svg");
+    for slot in ModelSlot::ALL {
+        assert!(
+            fig.contains(slot.title()),
+            "missing panel title {}",
+            slot.title()
+        );
+    }
+    let ggx = &all[1];
+    for needle in [
+        "frosted-like: measured transmission",
+        &format!("α = {}", fmt_sig(ggx.alpha, 4)),
+        "γ = 3 (fixed)",
+        "γ = 2.600",
+        &format!("scale = {}", fmt_sig(ggx.scale, 4)),
+        &format!("rmse √L = {}", fmt_sig(ggx.rmse_sqrt_l, 3)),
+        "measured",
+        "model",
+        "θi = 0°",
+        "θi = 30°",
+        "θi = 60°",
+        "θi = 80°",
+        "θo (degrees)",
+        "√L",
+    ] {
+        assert!(fig.contains(needle), "fit figure lacks `{needle}`");
+    }
+    let res = svg(&report, "ground_glass-residuals.svg");
+    for needle in [
+        "residuals",
+        "θi = 80°",
+        "√L measured − √L model",
+        "Student-T, γ free",
+    ] {
+        assert!(res.contains(needle), "residual figure lacks `{needle}`");
+    }
+    let overview = svg(&report, "overview.svg");
+    for needle in [
+        "frosted-like · Beckmann",
+        "ground glass · Student-T, γ free",
+        "θi = 60°",
+    ] {
+        assert!(overview.contains(needle), "overview lacks `{needle}`");
+    }
+    let ndf = svg(&report, "ndf.svg");
+    for needle in ["D(θm)", "GGX", "frosted-like", "ground glass"] {
+        assert!(ndf.contains(needle), "NDF figure lacks `{needle}`");
+    }
+}
+
+#[test]
+fn pngs_have_the_stated_sizes() {
+    let data = dataset();
+    let report = render_report(&data, &fits(&data), &ReportOptions::default()).unwrap();
+    for name in ["frosted-like-fits.png", "ground_glass-residuals.png"] {
+        let (w, h, c) = png_size(&report.file(name).unwrap().contents);
+        assert_eq!((w, h, c), (1600, 1200, png::ColorType::Rgb), "{name}");
+    }
+    let (w, h, _) = png_size(&report.file("overview.png").unwrap().contents);
+    assert_eq!((w, h), (1800, 100 + 400 * 2));
+    let (w, h, _) = png_size(&report.file("ndf.png").unwrap().contents);
+    assert_eq!((w, h), (2 * 820, 100 + 560));
+}
+
+#[test]
+fn pngs_decode_and_are_not_blank() {
+    let data = dataset();
+    let report = render_report(&data, &fits(&data), &ReportOptions::default()).unwrap();
+    let bytes = &report.file("frosted-like-fits.png").unwrap().contents;
+    let mut reader = png::Decoder::new(std::io::Cursor::new(bytes.as_slice()))
+        .read_info()
+        .unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    reader.next_frame(&mut buf).unwrap();
+    let white = buf.chunks(3).filter(|p| p == &[255, 255, 255]).count();
+    let total = buf.len() / 3;
+    // Mostly white background, but with a real amount of ink (axes, text, markers, curves).
+    assert!(
+        white < total * 97 / 100 && white > total / 2,
+        "white {white} of {total}"
+    );
+    // The first incidence angle's colour (Okabe-Ito blue) is drawn.
+    assert!(buf.chunks(3).any(|p| p == [0x00, 0x72, 0xB2]));
+}
+
+#[test]
+fn report_from_stored_fits_equals_report_from_memory() {
+    let data = dataset();
+    let all = fits(&data);
+    let json = serde_json::to_string_pretty(&stfit_report::FitsFile { fits: all.clone() }).unwrap();
+    let stored = read_fits_json(&json).unwrap();
+    assert_eq!(stored, all);
+    let opts = ReportOptions::default();
+    let a = render_report(&data, &all, &opts).unwrap();
+    let b = render_report(&data, &stored, &opts).unwrap();
+    assert_eq!(a, b);
+}
+
+#[test]
+fn fit_order_does_not_change_the_report() {
+    let data = dataset();
+    let all = fits(&data);
+    let mut reversed = all.clone();
+    reversed.reverse();
+    let opts = ReportOptions::default();
+    let a = render_report(&data, &all, &opts).unwrap();
+    let b = render_report(&data, &reversed, &opts).unwrap();
+    assert_eq!(a, b);
+}
+
+#[test]
+fn linear_scale_changes_the_axis() {
+    let data = dataset();
+    let all = fits(&data);
+    let opts = ReportOptions {
+        y_scale: YScale::Linear,
+        ..ReportOptions::default()
+    };
+    let report = render_report(&data, &all, &opts).unwrap();
+    let fig = svg(&report, "frosted-like-fits.svg");
+    assert!(
+        !fig.contains("√L<") && !fig.contains(">√L"),
+        "linear plot labelled sqrt"
+    );
+    assert!(svg(&report, "frosted-like-residuals.svg").contains("L measured − L model"));
+    let sqrt = render_report(&data, &all, &ReportOptions::default()).unwrap();
+    assert_ne!(svg(&sqrt, "frosted-like-fits.svg"), fig);
+}
+
+#[test]
+fn missing_fits_leave_panels_with_data_only() {
+    let data = dataset();
+    let some: Vec<FitResult> = fits(&data)
+        .into_iter()
+        .filter(|f| f.model == ModelKind::Ggx)
+        .collect();
+    let report = render_report(&data, &some, &ReportOptions::default()).unwrap();
+    let fig = svg(&report, "frosted-like-fits.svg");
+    assert_eq!(fig.matches("not fitted").count(), 3);
+    let md = svg(&report, "fits.md");
+    assert_eq!(
+        md.lines()
+            .filter(|l| l.starts_with("| ") && l.contains("GGX"))
+            .count(),
+        2
+    );
+    assert!(!md.contains("Beckmann |"));
+    // No fits at all still draws the data.
+    let bare = render_report(&data, &[], &ReportOptions::default()).unwrap();
+    assert_eq!(
+        svg(&bare, "frosted-like-fits.svg")
+            .matches("not fitted")
+            .count(),
+        4
+    );
+}
+
+#[test]
+fn a_stored_rmse_the_data_does_not_reproduce_is_reported() {
+    let data = dataset();
+    let mut all = fits(&data);
+    all[0].rmse_sqrt_l *= 1.5;
+    // A different eta changes every model value, so every stored rmse is off.
+    let report = render_report(&data, &all, &ReportOptions::default()).unwrap();
+    assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
+    assert!(report.warnings[0].contains("frosted-like") && report.warnings[0].contains("Beckmann"));
+    let other_eta = ReportOptions {
+        eta: 1.4,
+        ..ReportOptions::default()
+    };
+    let report = render_report(&data, &fits(&data), &other_eta).unwrap();
+    assert_eq!(report.warnings.len(), 8);
+}
+
+#[test]
+fn fits_markdown_lists_every_fit_and_marks_the_best() {
+    let data = dataset();
+    let all = fits(&data);
+    let report = render_report(&data, &all, &ReportOptions::default()).unwrap();
+    let md = svg(&report, "fits.md");
+    let rows: Vec<&str> = md
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| sample"))
+        .collect();
+    assert_eq!(rows.len(), all.len());
+    for (row, f) in rows.iter().zip(&all) {
+        assert!(row.contains(&fmt_sig(f.alpha, 4)), "{row}");
+        assert!(
+            row.contains(&format!("| {} |", ModelSlot::of(f).title())),
+            "{row}"
+        );
+    }
+    for (i, s) in data.samples.iter().enumerate() {
+        let mine = &all[i * 4..i * 4 + 4];
+        let best = mine
+            .iter()
+            .min_by(|a, b| a.rmse_sqrt_l.total_cmp(&b.rmse_sqrt_l))
+            .unwrap();
+        let bold = format!("**{}**", fmt_sig(best.rmse_sqrt_l, 4));
+        let bold_rows: Vec<_> = rows.iter().filter(|r| r.contains(&bold)).collect();
+        assert_eq!(bold_rows.len(), 1, "{}", s.name);
+        assert!(bold_rows[0].contains(ModelSlot::of(best).title()));
+    }
+    assert!(md.contains("(frosted-like-fits.png)") && md.contains("(ground_glass-residuals.png)"));
+    let direct = fits_markdown(
+        &[("x", all[..4].iter().collect())],
+        &[],
+        &ReportOptions::default(),
+    );
+    assert!(direct.contains("| x | Student-T, γ fixed | 0.2500 ± 0.0010 | 3 (fixed) |"));
+}
+
+#[test]
+fn bad_fits_are_typed_errors() {
+    let data = dataset();
+    let opts = ReportOptions::default();
+    let mut f = fits(&data);
+    f[0].sample = "nope".into();
+    assert!(matches!(
+        render_report(&data, &f, &opts),
+        Err(ReportError::UnknownSample { .. })
+    ));
+
+    let mut f = fits(&data);
+    f[1] = f[0].clone();
+    assert!(matches!(
+        render_report(&data, &f, &opts),
+        Err(ReportError::DuplicateFit { .. })
+    ));
+
+    let mut f = fits(&data);
+    f[2].n_points -= 1;
+    assert!(matches!(
+        render_report(&data, &f, &opts),
+        Err(ReportError::PointCount { .. })
+    ));
+
+    for bad in [
+        |f: &mut FitResult| f.alpha = -0.1,
+        |f: &mut FitResult| f.alpha = f64::NAN,
+        |f: &mut FitResult| f.scale = 0.0,
+        |f: &mut FitResult| f.gamma = Some(1.2),
+        |f: &mut FitResult| f.gamma = None,
+    ] {
+        let mut f = fits(&data);
+        bad(&mut f[3]);
+        assert!(matches!(
+            render_report(&data, &f, &opts),
+            Err(ReportError::InvalidFit { .. })
+        ));
+    }
+
+    let empty = Dataset {
+        source: "x".into(),
+        samples: vec![],
+    };
+    assert!(matches!(
+        render_report(&empty, &[], &opts),
+        Err(ReportError::NoSamples)
+    ));
+    let bad_eta = ReportOptions { eta: 1.0, ..opts };
+    assert!(matches!(
+        render_report(&data, &[], &bad_eta),
+        Err(ReportError::Options(_))
+    ));
+
+    let clash = Dataset {
+        source: "x".into(),
+        samples: vec![
+            Sample {
+                name: "a b".into(),
+                ..data.samples[0].clone()
+            },
+            Sample {
+                name: "a_b".into(),
+                ..data.samples[1].clone()
+            },
+        ],
+    };
+    assert!(matches!(
+        render_report(&clash, &[], &opts),
+        Err(ReportError::FileNameClash(..))
+    ));
+
+    assert!(matches!(
+        read_fits_json("{\"fit\": []}"),
+        Err(ReportError::Json(_))
+    ));
+    assert!(matches!(
+        read_fits_json("not json"),
+        Err(ReportError::Json(_))
+    ));
+}
+
+#[test]
+fn file_stems_are_safe() {
+    assert_eq!(file_stem("frosted"), "frosted");
+    assert_eq!(file_stem("ground glass/2"), "ground_glass_2");
+    assert_eq!(file_stem(""), "sample");
+    assert_eq!(file_stem("../x"), ".._x");
+}
+
+#[test]
+fn clip_below_cuts_at_the_floor_in_log_space() {
+    let pts = [
+        (0.0, 1.0),
+        (1.0, 1e-2),
+        (2.0, 1e-6),
+        (3.0, 1e-2),
+        (4.0, 1e-1),
+    ];
+    let pieces = clip_below(&pts, 1e-3);
+    assert_eq!(pieces.len(), 2);
+    // ln y is linear between 1e-2 and 1e-6: 1e-3 is a quarter of the way.
+    assert_eq!(pieces[0].len(), 3);
+    approx::assert_relative_eq!(pieces[0][2].0, 1.25, epsilon = 1e-12);
+    assert_eq!(pieces[0][2].1, 1e-3);
+    approx::assert_relative_eq!(pieces[1][0].0, 2.75, epsilon = 1e-12);
+    assert_eq!(&pieces[1][1..], &pts[3..]);
+    assert_eq!(clip_below(&pts, 10.0), Vec::<Vec<(f64, f64)>>::new());
+    assert_eq!(clip_below(&pts, 1e-9), vec![pts.to_vec()]);
+}
+
+#[test]
+fn ticks_are_short_and_never_negative_zero() {
+    use stfit_report::fmt_tick;
+    assert_eq!(fmt_tick(-1e-17, 1.2), "0");
+    assert_eq!(fmt_tick(0.7000000000000001, 1.2), "0.7");
+    assert_eq!(fmt_tick(0.30000000000000004, 3.2), "0.3");
+    assert_eq!(fmt_tick(-0.4, 1.2), "-0.4");
+    assert_eq!(fmt_tick(2.0, 3.2), "2");
+    assert_eq!(fmt_tick(0.0125, 0.05), "0.0125");
+    assert_eq!(fmt_tick(25000.0, 50000.0), "25000");
+}
+
+#[test]
+fn fmt_sig_formats() {
+    assert_eq!(fmt_sig(0.123456, 4), "0.1235");
+    assert_eq!(fmt_sig(3.0, 4), "3.000");
+    assert_eq!(fmt_sig(1234.5, 3), "1234");
+    assert_eq!(fmt_sig(0.0, 3), "0");
+    assert_eq!(fmt_sig(1.5e-5, 2), "0.000015");
+    assert_eq!(fmt_sig(1.5e-6, 2), "1.5e-6");
+    assert_eq!(fmt_sig(f64::NAN, 2), "NaN");
+}
+
+#[test]
+fn an_unnamed_sample_gets_a_file_name_and_a_title() {
+    let data = Dataset {
+        source: PathBuf::from("x"),
+        samples: vec![synth_sample("", params(ModelKind::Ggx, 0.3, 0.0, 1.0), 0.0)],
+    };
+    let f = vec![fit(
+        &data.samples[0],
+        params(ModelKind::Ggx, 0.3, 0.0, 1.0),
+        false,
+    )];
+    let report = render_report(&data, &f, &ReportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty());
+    assert!(svg(&report, "sample-fits.svg").contains("(unnamed): measured transmission"));
+    assert!(svg(&report, "overview.svg").contains("(unnamed) · GGX"));
+    // The exact model has zero residual everywhere.
+    assert!(
+        svg(&report, "fits.md")
+            .contains("| (unnamed) | GGX | 0.3000 ± 0.0010 | – | 1.000 ± 0.0040 | **0** |")
+    );
+}
+
+#[test]
+fn points_of_weight_zero_are_drawn_hollow_and_left_out_of_the_rmse() {
+    let truth = params(ModelKind::StudentT, 0.3, 2.2, 1.0);
+    let mut sample = synth_sample("weighted", truth, 0.0);
+    // Stray light on a few points, excluded from the fit by weight 0.
+    for m in sample.points.iter_mut().step_by(10) {
+        m.l += 0.05;
+        m.weight = 0.0;
+    }
+    let fitted = sample.points.iter().filter(|m| m.weight > 0.0).count();
+    let mut f = fit(&sample, truth, false);
+    f.n_points = fitted;
+    f.rmse_sqrt_l = 0.0;
+    let data = Dataset {
+        source: PathBuf::from("x"),
+        samples: vec![sample],
+    };
+    let dir = out_dir("weights");
+    let report =
+        stfit_report::write_report(&data, &[f.clone()], &dir, &ReportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    assert!(svg(&report, "weighted-fits.svg").contains("weight 0, not fitted"));
+    // A fit that counted every point belongs to other data.
+    f.n_points = data.samples[0].points.len();
+    assert!(matches!(
+        render_report(&data, &[f], &ReportOptions::default()),
+        Err(ReportError::PointCount { .. })
+    ));
+}
+
+#[test]
+fn stored_fits_round_trip_every_float_exactly() {
+    // serde_json parses floats exactly only with its `float_roundtrip` feature; without it a
+    // report from stored fits can differ from one that fits first in the last bit.
+    let data = dataset();
+    let template = fits(&data)[0].clone();
+    let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+    let many: Vec<FitResult> = (0..2000)
+        .map(|_| {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let v = f64::from_bits((x >> 12) | 0x3FF0_0000_0000_0000) - 1.0;
+            FitResult {
+                alpha: v,
+                rmse_sqrt_l: v * 1e-3,
+                scale: v * 1e4,
+                ..template.clone()
+            }
+        })
+        .collect();
+    let json = serde_json::to_string(&stfit_report::FitsFile { fits: many.clone() }).unwrap();
+    assert_eq!(read_fits_json(&json).unwrap(), many);
+}
+
+#[test]
+fn fits_of_the_fitting_engine_are_reproduced_without_warnings() {
+    // The report's rmse, recomputed from the data and the fitted parameters, agrees with the
+    // one the fitting engine stores, so its model curves are the fitted ones.
+    let data = dataset();
+    let mut all = Vec::new();
+    for s in &data.samples {
+        all.extend(stfit_fit::fit_all(s, &stfit_fit::FitOptions::default()).unwrap());
+    }
+    assert_eq!(all.len(), 8);
+    let report = render_report(&data, &all, &ReportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let fig = svg(&report, "ground_glass-fits.svg");
+    assert_eq!(fig.matches("not fitted").count(), 0);
+}

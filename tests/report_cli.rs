@@ -1,0 +1,271 @@
+//! End-to-end tests of `stfit report`: every file written, sizes and text of the figures,
+//! stored fits against fitting first, the flags, bad input, and the Walter data from the
+//! shared folder (never copied into the project).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A fresh directory for one test under the system temp dir, removed when dropped.
+struct CaseDir(PathBuf);
+
+impl CaseDir {
+    fn new(name: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!("stfit-report-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        Self(dir)
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+}
+
+impl Drop for CaseDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn stfit(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_stfit"))
+        .args(args)
+        .output()
+        .expect("the stfit binary runs")
+}
+
+/// Runs the binary, failing the test (with stderr) unless it succeeds without warnings.
+fn stfit_ok(args: &[&str]) -> Output {
+    let out = stfit(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "stfit {args:?} failed: {stderr}");
+    assert!(
+        !stderr.contains("warning"),
+        "stfit {args:?} warned: {stderr}"
+    );
+    out
+}
+
+fn p(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+fn example() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fits/example.csv")
+}
+
+fn shared_dir() -> PathBuf {
+    std::env::var_os("STFIT_SHARED").map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"),
+        PathBuf::from,
+    )
+}
+
+/// The files of a report of `samples`, sorted.
+fn expected_files(samples: &[&str]) -> Vec<String> {
+    let mut names = vec!["fits.md".to_string()];
+    for fig in ["overview", "ndf"] {
+        names.push(format!("{fig}.svg"));
+        names.push(format!("{fig}.png"));
+    }
+    for s in samples {
+        for kind in ["fits", "residuals"] {
+            names.push(format!("{s}-{kind}.svg"));
+            names.push(format!("{s}-{kind}.png"));
+        }
+    }
+    names.sort();
+    names
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    names
+}
+
+fn read(dir: &Path, name: &str) -> String {
+    std::fs::read_to_string(dir.join(name)).unwrap()
+}
+
+fn png_size(path: &Path) -> (u32, u32) {
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let reader = png::Decoder::new(file).read_info().unwrap();
+    (reader.info().width, reader.info().height)
+}
+
+/// Rows of the fits.md table of one sample: `(model, rmse cell)`.
+fn table_rows<'a>(md: &'a str, sample: &str) -> Vec<(&'a str, &'a str)> {
+    md.lines()
+        .filter_map(|l| {
+            let cells: Vec<&str> = l.split('|').map(str::trim).collect();
+            (cells.len() > 7 && cells[1] == sample).then(|| (cells[2], cells[6]))
+        })
+        .collect()
+}
+
+#[test]
+fn report_fits_first_and_from_stored_fits_gives_the_same_files() {
+    let dir = CaseDir::new("stored");
+    let (fitted, stored, json) = (
+        dir.path("fitted"),
+        dir.path("stored"),
+        dir.path("fits.json"),
+    );
+    let out = stfit_ok(&["report", p(&example()), "--out", p(&fitted)]);
+    let samples = ["frosted", "etched", "ground"];
+    let expected = expected_files(&samples);
+    assert_eq!(files_in(&fitted), expected);
+    // stdout lists every file written.
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(stdout.lines().count(), expected.len());
+
+    stfit_ok(&[p(&example()), "--model", "all", "--out", p(&json)]);
+    stfit_ok(&[
+        "report",
+        p(&example()),
+        "--fits",
+        p(&json),
+        "--out",
+        p(&stored),
+    ]);
+    assert_eq!(files_in(&stored), expected);
+    for name in &expected {
+        assert!(
+            std::fs::read(fitted.join(name)).unwrap() == std::fs::read(stored.join(name)).unwrap(),
+            "{name} differs between fitting first and stored fits"
+        );
+    }
+
+    for s in samples {
+        assert_eq!(
+            png_size(&fitted.join(format!("{s}-fits.png"))),
+            (1600, 1200)
+        );
+        assert_eq!(
+            png_size(&fitted.join(format!("{s}-residuals.png"))),
+            (1600, 1200)
+        );
+        let svg = read(&fitted, &format!("{s}-fits.svg"));
+        for needle in [
+            "Beckmann",
+            "GGX",
+            "Student-T, γ fixed",
+            "Student-T, γ free",
+            "γ = 3 (fixed)",
+            "α = ",
+            "scale = ",
+            "rmse √L = ",
+            "measured",
+            "model",
+            "θi = 0°",
+            "θi = 80°",
+        ] {
+            assert!(svg.contains(needle), "{s}-fits.svg lacks `{needle}`");
+        }
+        // The example data are Student-T made: Student-T with free gamma fits best.
+        let md = read(&fitted, "fits.md");
+        let rows = table_rows(&md, s);
+        assert_eq!(rows.len(), 4, "{s}");
+        assert!(rows[3].1.starts_with("**"), "{s}: {rows:?}");
+    }
+    assert_eq!(
+        png_size(&fitted.join("overview.png")),
+        (1800, 100 + 3 * 400)
+    );
+    assert_eq!(png_size(&fitted.join("ndf.png")), (3 * 640, 100 + 560));
+}
+
+#[test]
+fn sample_and_scale_flags_select_what_is_drawn() {
+    let dir = CaseDir::new("flags");
+    let (json, out) = (dir.path("fits.json"), dir.path("out"));
+    stfit_ok(&[p(&example()), "--model", "all", "--out", p(&json)]);
+    stfit_ok(&[
+        "report",
+        p(&example()),
+        "--fits",
+        p(&json),
+        "--sample",
+        "etched",
+        "--scale",
+        "linear",
+        "--out",
+        p(&out),
+    ]);
+    assert_eq!(files_in(&out), expected_files(&["etched"]));
+    let md = read(&out, "fits.md");
+    assert_eq!(table_rows(&md, "etched").len(), 4);
+    assert!(table_rows(&md, "frosted").is_empty());
+    assert!(md.contains("Figures plot L."));
+    assert!(read(&out, "etched-residuals.svg").contains("L measured − L model"));
+    assert!(!read(&out, "etched-fits.svg").contains("√L<"));
+}
+
+#[test]
+fn bad_input_fails_with_a_message() {
+    let dir = CaseDir::new("bad");
+    let bad_json = dir.path("bad.json");
+    std::fs::write(&bad_json, "{\"fits\": [{\"sample\": 3}]}").unwrap();
+    let foreign = dir.path("foreign.json");
+    std::fs::write(
+        &foreign,
+        r#"{"fits": [{"sample": "frosted", "model": "ggx", "alpha": 0.2, "gamma": null,
+        "gamma_fixed": false, "scale": 1.0, "rmse_sqrt_l": 0.1, "n_points": 12,
+        "alpha_stderr": 0.01, "gamma_stderr": null, "scale_stderr": 0.01, "iterations": 3}]}"#,
+    )
+    .unwrap();
+    let out_dir = dir.path("out");
+    let (missing, none) = (dir.path("missing.csv"), dir.path("none.json"));
+    let ex = example();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["report", p(&missing)], "missing.csv"),
+        (vec!["report", p(&ex), "--fits", p(&none)], "none.json"),
+        (vec!["report", p(&ex), "--fits", p(&bad_json)], "bad.json"),
+        (vec!["report", p(&ex), "--fits", p(&foreign)], "12 points"),
+        (
+            vec!["report", p(&ex), "--fits", p(&foreign), "--sample", "nope"],
+            "nope",
+        ),
+    ];
+    for (args, needle) in cases {
+        let mut args = args;
+        args.extend(["--out", p(&out_dir)]);
+        let out = stfit(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(
+            stderr.starts_with("error: ") && stderr.contains(needle),
+            "{args:?}: {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+    let out = stfit(&["report", p(&ex), "--scale", "log"]);
+    assert_eq!(out.status.code(), Some(2));
+    let out = stfit(&["report", p(&ex), "--eta", "1"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn report_of_the_walter_measurements() {
+    let data = shared_dir().join("data/walter2007/measurements.csv");
+    let dir = CaseDir::new("walter");
+    let out = dir.path("report");
+    stfit_ok(&["report", p(&data), "--out", p(&out)]);
+    assert_eq!(
+        files_in(&out),
+        expected_files(&["frosted", "etched", "ground"])
+    );
+    // The published finding: Student-T fits frosted and etched glass better than Beckmann or
+    // GGX (the best rmse of each sample is bold in fits.md).
+    let md = read(&out, "fits.md");
+    for s in ["frosted", "etched"] {
+        let rows = table_rows(&md, s);
+        let best: Vec<_> = rows.iter().filter(|r| r.1.starts_with("**")).collect();
+        assert_eq!(best.len(), 1, "{s}: {rows:?}");
+        assert!(best[0].0.starts_with("Student-T"), "{s}: {rows:?}");
+    }
+}
