@@ -104,8 +104,8 @@ impl<'a> Prepared<'a> {
         check_eta(opts.eta)?;
         if opts.scattering == Scattering::Multiple {
             return Err(FitError::Unsupported(
-                "fitting with multiple scattering (`Scattering::Multiple`) needs the \
-                 random-walk BSDF, which is not available yet; use single scattering"
+                "fitting with multiple scattering (`Scattering::Multiple`) is not supported \
+                 yet: the fit engine does not use the random walk yet; use single scattering"
                     .into(),
             ));
         }
@@ -342,7 +342,9 @@ pub fn predict(
 ) -> Result<Vec<f64>, FitError> {
     if opts.scattering == Scattering::Multiple {
         return Err(FitError::Unsupported(
-            "multiple-scattering predictions need the random-walk BSDF, not available yet".into(),
+            "multiple-scattering predictions are not supported yet: the fit engine does not \
+             use the random walk yet"
+                .into(),
         ));
     }
     Ok(params.l_single_batch(angles, opts.eta, opts.masking)?)
