@@ -1,11 +1,10 @@
 //! The Student-T NDF of Ribardiere et al. 2017 in d'Eon's (alpha, gamma) parameterisation.
 
 use super::beckmann::{open_uniform, sample_visible_beckmann};
-use super::special::{FRAC_1_SQRT_PI, erfcx_gap};
+use super::special::{FRAC_1_SQRT_PI, erfc_and_gauss, erfcx_gap};
 use super::{Ndf, cos2_sin2, lambda_on_sphere};
 use crate::error::{ParamError, check_alpha, check_gamma};
 use crate::math::Vec3;
-use libm::erfc;
 use rand::Rng;
 use rand_distr::{Distribution, Gamma};
 use statrs::function::gamma::ln_gamma;
@@ -109,14 +108,15 @@ impl StudentT {
     }
 
     /// Draws `sqrt(m)` from part 1 of the tilted mixing density: `m ~ Gamma(g - 3/2,
-    /// rate 1 + k)`. For shape `< 1`, `m = X U^(1/shape)` with `X ~ Gamma(shape + 1)`, formed
-    /// in log space because `U^(1/shape)` underflows for gamma near 3/2.
+    /// rate 1 + k)`, given `ln_1p_k = ln(1 + k)`. For shape `< 1`, `m = X U^(1/shape)` with
+    /// `X ~ Gamma(shape + 1)`, formed in log space because `U^(1/shape)` underflows for gamma
+    /// near 3/2.
     #[inline]
-    fn draw_sqrt_m_part1<R: Rng + ?Sized>(&self, k: f64, rng: &mut R) -> f64 {
+    fn draw_sqrt_m_part1<R: Rng + ?Sized>(&self, k: f64, ln_1p_k: f64, rng: &mut R) -> f64 {
         let shape1 = self.gamma - 1.5;
         let x = self.part1.sample(rng);
         if shape1 < 1.0 {
-            (0.5 * (x.ln() - k.ln_1p() + open_uniform(rng).ln() / shape1)).exp()
+            (0.5 * (x.ln() - ln_1p_k + open_uniform(rng).ln() / shape1)).exp()
         } else {
             (x / (1.0 + k)).sqrt()
         }
@@ -202,18 +202,22 @@ impl Ndf for StudentT {
         }
         let mu = c.abs() / sin;
         let k = mu * mu * self.inv_a2g1;
-        let w1 = sin * self.w1_scale * (-(self.gamma - 1.5) * k.ln_1p()).exp();
+        let ln_1p_k = k.ln_1p();
+        let w1 = sin * self.w1_scale * (-(self.gamma - 1.5) * ln_1p_k).exp();
         let sqrt_m = loop {
             if c >= 0.0 {
                 if w1.is_finite() && open_uniform(rng) * (w1 + c) < w1 {
-                    break self.draw_sqrt_m_part1(k, rng);
+                    break self.draw_sqrt_m_part1(k, ln_1p_k, rng);
                 }
+                // Thinning: accept with probability `1 - erfc(a)/2 >= 1/2`, so a uniform
+                // above 1/2 accepts without evaluating erfc.
                 let m = self.mix.sample(rng);
-                if m > 0.0 && open_uniform(rng) >= 0.5 * erfc((k * m).sqrt()) {
+                let v = open_uniform(rng);
+                if m > 0.0 && (v >= 0.5 || v >= 0.5 * erfc_and_gauss((k * m).sqrt()).0) {
                     break m.sqrt();
                 }
             } else {
-                let sqrt_m = self.draw_sqrt_m_part1(k, rng);
+                let sqrt_m = self.draw_sqrt_m_part1(k, ln_1p_k, rng);
                 if open_uniform(rng) < erfcx_gap(k.sqrt() * sqrt_m) {
                     break sqrt_m;
                 }
