@@ -495,6 +495,62 @@ fn multiple_scattering_refuses_separable_masking_and_zero_walks() {
     }
 }
 
+/// `stfit synth --scattering multiple` writes all-orders data (recorded in its comment) that
+/// `--scattering multiple` fits back to the truth.
+#[test]
+fn multiple_scattering_synth_then_fit_recovers_the_truth() {
+    let dir = CaseDir::new("multiple-synth");
+    let file = dir.path("ms.csv");
+    let synth = [
+        "synth",
+        "--model",
+        "ggx",
+        "--alpha",
+        "0.6",
+        "--scattering",
+        "multiple",
+        "--walks",
+        "20000",
+        "--theta-i",
+        "0,40",
+        "--theta-o",
+        "110:250:5",
+        "--out",
+        p(&file),
+    ];
+    stfit_ok(&synth);
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert!(
+        text.starts_with("# ")
+            && text.contains("--masking correlated --scattering multiple --walks 20000"),
+        "{text}"
+    );
+    let out = stfit_ok(&[
+        p(&file),
+        "--model",
+        "ggx",
+        "--scattering",
+        "multiple",
+        "--walks",
+        "3000",
+        "--seed",
+        "9",
+        "--json",
+    ]);
+    let fits = fits_of(&out.stdout);
+    let alpha = fits[0]["alpha"].as_f64().unwrap();
+    let scale = fits[0]["scale"].as_f64().unwrap();
+    assert!((alpha / 0.6 - 1.0).abs() < 0.02, "alpha {alpha}");
+    assert!((scale - 1.0).abs() < 0.03, "scale {scale}");
+    let out = Command::new(env!("CARGO_BIN_EXE_stfit"))
+        .args(synth)
+        .args(["--masking", "separable"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("height-correlated"));
+}
+
 fn shared_dir() -> PathBuf {
     std::env::var_os("STFIT_SHARED").map_or_else(
         || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"),

@@ -193,7 +193,10 @@ pub fn run(args: FitArgs) -> CmdResult {
 }
 
 /// The masking of the model: separable unless given; multiple scattering takes correlated only.
-fn masking(scattering: ScatteringArg, given: Option<MaskingArg>) -> Result<MaskingArg, CmdError> {
+pub fn masking(
+    scattering: ScatteringArg,
+    given: Option<MaskingArg>,
+) -> Result<MaskingArg, CmdError> {
     match (scattering, given) {
         (ScatteringArg::Single, m) => Ok(m.unwrap_or(MaskingArg::Separable)),
         (ScatteringArg::Multiple, None | Some(MaskingArg::Correlated)) => {
