@@ -2,9 +2,11 @@
 //! and print a table or JSON.
 
 use std::fmt::Write as _;
+use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use stfit_fit::{
     Dataset, FitOptions, FitResult, Loss, ModelKind, ModelSpec, Optimizer, Sample, Scattering,
@@ -44,12 +46,23 @@ pub struct FitArgs {
     /// Local optimiser for the shape parameters.
     #[arg(long, value_enum, default_value_t = OptimizerArg::NelderMead)]
     pub optimizer: OptimizerArg,
-    /// Smith masking-shadowing form of the model.
-    #[arg(long, value_enum, default_value_t = MaskingArg::Separable)]
-    pub masking: MaskingArg,
-    /// Scattering orders of the model (multiple needs the random-walk BSDF).
+    /// Smith masking-shadowing form of the single-scattering model [default: separable].
+    /// Multiple scattering is height-correlated by construction: it takes no --masking but
+    /// `correlated`.
+    #[arg(long, value_enum)]
+    pub masking: Option<MaskingArg>,
+    /// Scattering orders of the model. `multiple` adds the random walk's order >= 2 estimate to
+    /// the height-correlated single-scattering BTDF, with the same random numbers at every
+    /// evaluation (deterministic for a --seed); it starts from the single-scattering optimum and
+    /// is slower (use the default Nelder-Mead: L-BFGS is not recommended there).
     #[arg(long, value_enum, default_value_t = ScatteringArg::Single)]
     pub scattering: ScatteringArg,
+    /// Random walks per incidence angle per model evaluation (--scattering multiple).
+    #[arg(long, value_name = "N", default_value_t = 20_000)]
+    pub walks: u64,
+    /// Seed of the random walks (--scattering multiple).
+    #[arg(long, value_name = "S", default_value_t = 1)]
+    pub seed: u64,
     /// Print the fits as JSON instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -88,7 +101,8 @@ pub enum OptimizerArg {
 pub enum ScatteringArg {
     /// The analytic single-scattering BSDF of Walter et al. 2007.
     Single,
-    /// All orders, by the height-field random walk.
+    /// All orders: the height-correlated single-scattering BTDF plus the random walk's orders
+    /// >= 2.
     Multiple,
 }
 
@@ -115,12 +129,13 @@ pub fn run(args: FitArgs) -> CmdResult {
             OptimizerArg::NelderMead => Optimizer::NelderMead,
             OptimizerArg::Lbfgs => Optimizer::Lbfgs,
         },
-        masking: args.masking.into(),
+        masking: masking(args.scattering, args.masking)?.into(),
         scattering: match args.scattering {
             ScatteringArg::Single => Scattering::Single,
             ScatteringArg::Multiple => Scattering::Multiple,
         },
-        ..FitOptions::default()
+        seed: args.seed,
+        walk_samples: check_walks(args.walks)?,
     };
 
     if let Some(out) = &args.out {
@@ -138,8 +153,12 @@ pub fn run(args: FitArgs) -> CmdResult {
         None => data.samples.iter().collect(),
     };
     let mut fits = Vec::with_capacity(samples.len() * specs.len());
+    let bar = progress_bar(&args, (samples.len() * specs.len()) as u64);
     for sample in samples {
         for &spec in &specs {
+            if let Some(bar) = &bar {
+                bar.set_message(format!("{} {}", sample.name, spec_label(spec)));
+            }
             fits.push(fit_one(sample, spec, &opts).map_err(|e| {
                 CmdError::Failed(format!(
                     "{}: sample '{}', model {}: {e}",
@@ -148,7 +167,13 @@ pub fn run(args: FitArgs) -> CmdResult {
                     spec_label(spec)
                 ))
             })?);
+            if let Some(bar) = &bar {
+                bar.inc(1);
+            }
         }
+    }
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
     }
 
     let json = || {
@@ -165,6 +190,51 @@ pub fn run(args: FitArgs) -> CmdResult {
     } else {
         print_stdout(&table(&fits))
     }
+}
+
+/// The masking of the model: separable unless given; multiple scattering takes correlated only.
+pub fn masking(
+    scattering: ScatteringArg,
+    given: Option<MaskingArg>,
+) -> Result<MaskingArg, CmdError> {
+    match (scattering, given) {
+        (ScatteringArg::Single, m) => Ok(m.unwrap_or(MaskingArg::Separable)),
+        (ScatteringArg::Multiple, None | Some(MaskingArg::Correlated)) => {
+            Ok(MaskingArg::Correlated)
+        }
+        (ScatteringArg::Multiple, Some(m)) => Err(CmdError::Usage(format!(
+            "--masking {}: multiple scattering is height-correlated by construction (the random \
+             walk); omit --masking or give `correlated`",
+            m.name()
+        ))),
+    }
+}
+
+/// Checks `--walks`.
+fn check_walks(walks: u64) -> Result<usize, CmdError> {
+    match usize::try_from(walks) {
+        Ok(n) if n > 0 => Ok(n),
+        _ => Err(CmdError::Usage(format!(
+            "--walks must be a positive number of walks, got {walks}"
+        ))),
+    }
+}
+
+/// A bar counting fits on stderr, for multiple-scattering runs when stderr is a terminal and
+/// the output is not JSON.
+fn progress_bar(args: &FitArgs, fits: u64) -> Option<ProgressBar> {
+    let show =
+        args.scattering == ScatteringArg::Multiple && !args.json && std::io::stderr().is_terminal();
+    show.then(|| {
+        let bar = ProgressBar::new(fits);
+        if let Ok(style) =
+            ProgressStyle::with_template("{spinner} {bar:30} {pos}/{len} fits, {msg}")
+        {
+            bar.set_style(style);
+        }
+        bar.enable_steady_tick(std::time::Duration::from_millis(200));
+        bar
+    })
 }
 
 /// Fits one model to one sample with the fitting engine.

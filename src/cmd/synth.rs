@@ -6,8 +6,9 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use stfit_fit::synth::{HEADER, SynthSpec, parse_angle_list, write_csv};
-use stfit_fit::{ModelKind, ModelParams};
+use stfit_fit::{ModelKind, ModelParams, Scattering};
 
+use super::fit::{ScatteringArg, masking as fit_masking};
 use super::{CmdError, CmdResult, MaskingArg, check_eta_arg, print_stdout};
 
 /// Arguments of `stfit synth`.
@@ -56,9 +57,17 @@ pub struct SynthArgs {
         allow_negative_numbers = true
     )]
     pub eta: f64,
-    /// Smith masking-shadowing form.
-    #[arg(long, value_enum, default_value_t = MaskingArg::Separable)]
-    pub masking: MaskingArg,
+    /// Smith masking-shadowing form [default: separable; correlated, the only one allowed, with
+    /// --scattering multiple].
+    #[arg(long, value_enum)]
+    pub masking: Option<MaskingArg>,
+    /// Scattering orders: `multiple` adds the random walk's orders >= 2 (--walks per incidence
+    /// angle, seeded with --seed) to the height-correlated single-scattering BTDF.
+    #[arg(long, value_enum, default_value_t = ScatteringArg::Single)]
+    pub scattering: ScatteringArg,
+    /// Random walks per incidence angle (--scattering multiple).
+    #[arg(long, value_name = "N", default_value_t = 100_000)]
+    pub walks: u64,
     /// Sample name written in the sample column.
     #[arg(long, value_name = "NAME", default_value = "synthetic")]
     pub sample: String,
@@ -95,6 +104,12 @@ pub fn run(args: SynthArgs) -> CmdResult {
         parse_angle_list(text).map_err(|e| CmdError::Usage(format!("{flag}: {e}")))
     };
     let kind = ModelKind::from(args.model);
+    let masking = fit_masking(args.scattering, args.masking)?;
+    if args.scattering == ScatteringArg::Multiple && args.walks == 0 {
+        return Err(CmdError::Usage(
+            "--walks must be a positive number of walks, got 0".into(),
+        ));
+    }
     let spec = SynthSpec {
         params: ModelParams {
             kind,
@@ -104,7 +119,12 @@ pub fn run(args: SynthArgs) -> CmdResult {
         },
         gamma_given: args.gamma.is_some(),
         eta: check_eta_arg(args.eta)?,
-        masking: args.masking.into(),
+        masking: masking.into(),
+        scattering: match args.scattering {
+            ScatteringArg::Single => Scattering::Single,
+            ScatteringArg::Multiple => Scattering::Multiple,
+        },
+        walks: args.walks,
         theta_i_deg: angles("--theta-i", &args.theta_i)?,
         theta_o_deg: angles("--theta-o", &args.theta_o)?,
         noise: args.noise,
@@ -118,10 +138,21 @@ pub fn run(args: SynthArgs) -> CmdResult {
     let gamma = args
         .gamma
         .map_or(String::new(), |g| format!(" --gamma {g}"));
+    let (scattering_flags, model_line) = match args.scattering {
+        ScatteringArg::Single => (
+            String::new(),
+            "single-scattering L = scale f_t cos(theta_i) / eta^2",
+        ),
+        ScatteringArg::Multiple => (
+            format!(" --scattering multiple --walks {}", args.walks),
+            "all-orders L = scale (f_single + f_multi) cos(theta_i) / eta^2, f_multi by the \
+             random walk",
+        ),
+    };
     let comment = format!(
         "stfit {} synth --model {} --alpha {}{gamma} --scale {} --noise {} --seed {} \
-         --theta-i {} --theta-o {} --eta {} --masking {} --sample {}\n\
-         single-scattering L = scale f_t cos(theta_i) / eta^2 with noise max(0, L (1 + noise z))",
+         --theta-i {} --theta-o {} --eta {} --masking {}{scattering_flags} --sample {}\n\
+         {model_line} with noise max(0, L (1 + noise z))",
         env!("CARGO_PKG_VERSION"),
         kind.name(),
         args.alpha,
@@ -131,7 +162,7 @@ pub fn run(args: SynthArgs) -> CmdResult {
         args.theta_i,
         args.theta_o,
         args.eta,
-        args.masking.name(),
+        masking.name(),
         args.sample,
     );
     let write_error = |path: &Path, e: std::io::Error| {

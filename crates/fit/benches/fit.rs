@@ -1,4 +1,5 @@
-//! Speed of single fits and of `--model all` on a 300-point sample.
+//! Speed of single fits and of `--model all` on a 300-point sample, and of one
+//! multiple-scattering model evaluation (the unit of cost of `--scattering multiple`).
 
 use std::hint::black_box;
 
@@ -57,5 +58,31 @@ fn bench(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, bench);
+/// One evaluation of the all-orders model on the 300-point grid: 4 incidence angles, 20000 walks
+/// each (the `--walks` default), as the multiple-scattering objective does per evaluation.
+fn bench_multiple(c: &mut Criterion) {
+    let angles: Vec<(f64, f64)> = sample()
+        .points
+        .iter()
+        .map(|p| (p.theta_i_deg, p.theta_o_deg))
+        .collect();
+    let params = ModelParams {
+        kind: ModelKind::StudentT,
+        alpha: 0.4,
+        gamma: 2.7,
+        scale: 0.8,
+    };
+    let mut group = c.benchmark_group("multiple scattering");
+    group.sample_size(10);
+    group.bench_function("model at 300 points, 4 x 20000 walks", |b| {
+        b.iter(|| {
+            params
+                .l_multiple_batch(black_box(&angles), 1.51, 20_000, 1)
+                .unwrap()
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench, bench_multiple);
 criterion_main!(benches);

@@ -1,6 +1,18 @@
-//! Fitting the single-scattering model to one sample: variable projection of the scale,
-//! multi-start local minimisation over the shape, and standard errors from the Gauss-Newton
-//! curvature at the optimum.
+//! Fitting a microfacet model to one sample: variable projection of the scale, multi-start
+//! local minimisation over the shape, and heteroscedasticity-robust standard errors (sandwich)
+//! at the optimum.
+//!
+//! With `Scattering::Single` the model is Walter et al.'s analytic single-scattering BTDF with
+//! the masking of `FitOptions::masking`. With `Scattering::Multiple` it is
+//! `f = f_single + f_multi`: `f_single` the analytic single-scattering BTDF with
+//! height-correlated masking (exactly the random walk's order 1 term; `FitOptions::masking` is
+//! ignored) and `f_multi` the order >= 2 estimate of `FitOptions::walk_samples` random walks per
+//! incidence angle ([`MultipleGeometry`]), with a fixed seed per incidence angle for every
+//! evaluation (common random numbers), so the objective is a deterministic, piecewise smooth
+//! function of the parameters. Nelder-Mead suits it; L-BFGS works but is not recommended (its
+//! finite-difference gradients see the jumps). The search starts from the optimum of the same
+//! model's single-scattering fit (multiple scattering is a correction to it) instead of the
+//! starting grid. The standard errors do not include the Monte Carlo error of `f_multi`.
 //!
 //! Search coordinates: `x0 = ln(alpha)` and, for Student-T with free gamma,
 //! `x1 = ln(gamma - 3/2)`, so every point of the search space is a valid model. They are
@@ -11,22 +23,29 @@
 //! Standard errors (natural units of alpha, gamma, scale): with the residuals of the chosen loss
 //! `r_j = sqrt(w_j) (y_j - T(scale * m_j(alpha, gamma)))` (`T = sqrt` or identity) and their
 //! Jacobian `J` in `theta = (alpha, [gamma], scale)` (central finite differences in alpha and
-//! gamma, analytic in scale),
+//! gamma, analytic in scale), with `J_j` its row of point `j`, the covariance is the
+//! heteroscedasticity-robust sandwich (White 1980, with MacKinnon and White's 1985 HC1
+//! small-sample factor):
 //!
 //! ```text
-//! Cov(theta) = sigma^2 (J^T J)^{-1},   sigma^2 = RSS / (n - p),
+//! Cov(theta) = n/(n-p) (J^T J)^{-1} (sum_j r_j^2 J_j^T J_j) (J^T J)^{-1},
 //! ```
 //!
-//! the Gauss-Newton form of `2 sigma^2 H^{-1}` with `H` the Hessian of `RSS = sum r_j^2` at the
-//! optimum, `n` the number of fitted points and `p` the number of fitted parameters.
+//! `n` the number of fitted points and `p` the number of fitted parameters. Unlike the classical
+//! `sigma^2 (J^T J)^{-1}` (`sigma^2 = RSS / (n - p)`), which assumes every residual has the same
+//! variance, it stays calibrated when the noise varies from point to point (multiplicative
+//! noise on `L` seen through the sqrt loss) and when the model misses some of the data
+//! systematically (a stray-light floor no model reproduces); for equal noise it agrees with the
+//! classical form up to sampling error.
 
 use stfit_core::ParamError;
+use stfit_core::bsdf::Masking;
 use stfit_core::error::{check_eta, check_gamma};
 use thiserror::Error;
 
 use crate::data::Sample;
 use crate::model::{FitOptions, FitResult, Loss, ModelKind, ModelParams, ModelSpec, Scattering};
-use crate::objective::{Geometry, Projected, signed_sqrt};
+use crate::objective::{Geometry, MultipleGeometry, Projected, signed_sqrt};
 use crate::optimize::minimize;
 
 /// Smallest roughness the search reaches.
@@ -85,15 +104,15 @@ pub enum FitError {
         model: &'static str,
         reason: String,
     },
-    /// A requested feature that is not available.
-    #[error("{0}")]
-    Unsupported(String),
 }
 
 /// A sample checked and precomputed once, fitted by several models.
+#[derive(Clone)]
 struct Prepared<'a> {
     sample: &'a Sample,
     geom: Geometry,
+    /// The random walks of the order >= 2 term, for `Scattering::Multiple`.
+    multi: Option<MultipleGeometry>,
     /// Measured `L` of the usable points.
     l: Vec<f64>,
     w: Vec<f64>,
@@ -102,11 +121,9 @@ struct Prepared<'a> {
 impl<'a> Prepared<'a> {
     fn new(sample: &'a Sample, opts: &FitOptions) -> Result<Self, FitError> {
         check_eta(opts.eta)?;
-        if opts.scattering == Scattering::Multiple {
-            return Err(FitError::Unsupported(
-                "fitting with multiple scattering (`Scattering::Multiple`) is not supported \
-                 yet: the fit engine does not use the random walk yet; use single scattering"
-                    .into(),
+        if opts.scattering == Scattering::Multiple && opts.walk_samples == 0 {
+            return Err(FitError::InvalidSpec(
+                "multiple scattering needs at least one random walk per incidence angle".into(),
             ));
         }
         let invalid = |index: usize, reason: String| FitError::InvalidData {
@@ -148,8 +165,23 @@ impl<'a> Prepared<'a> {
             l.push(p.l);
             w.push(p.weight);
         }
-        let geom = Geometry::new(angles, opts.eta)?;
-        Ok(Self { sample, geom, l, w })
+        let geom = Geometry::new(angles.iter().copied(), opts.eta)?;
+        let multi = match opts.scattering {
+            Scattering::Single => None,
+            Scattering::Multiple => Some(MultipleGeometry::new(
+                angles,
+                opts.eta,
+                opts.walk_samples as u64,
+                opts.seed,
+            )?),
+        };
+        Ok(Self {
+            sample,
+            geom,
+            multi,
+            l,
+            w,
+        })
     }
 }
 
@@ -242,7 +274,13 @@ impl Evaluator<'_, '_> {
     /// Unit-scale model values at `(alpha, gamma)`.
     fn unit_model(&self, alpha: f64, gamma: f64, m: &mut Vec<f64>) -> Result<(), ParamError> {
         let ndf = self.shape.model(alpha, gamma, 1.0).ndf()?;
-        self.prep.geom.unit_model(&ndf, self.opts.masking, m);
+        match &self.prep.multi {
+            None => self.prep.geom.unit_model(&ndf, self.opts.masking, m),
+            Some(multi) => {
+                self.prep.geom.unit_model(&ndf, Masking::Correlated, m);
+                multi.add_unit_model(&ndf, m)?;
+            }
+        }
         Ok(())
     }
 
@@ -334,18 +372,20 @@ pub fn fit_all(sample: &Sample, opts: &FitOptions) -> Result<Vec<FitResult>, Fit
 }
 
 /// Model values `L` at `(theta_i_deg, theta_o_deg)` pairs in the data convention, for plots:
-/// the same numbers as [`ModelParams::l_single`], computed in one batch.
+/// the same numbers as [`ModelParams::l_single`] (single scattering) or
+/// [`ModelParams::l_multiple_batch`] (multiple scattering), computed in one batch.
 pub fn predict(
     params: &ModelParams,
     angles: &[(f64, f64)],
     opts: &FitOptions,
 ) -> Result<Vec<f64>, FitError> {
     if opts.scattering == Scattering::Multiple {
-        return Err(FitError::Unsupported(
-            "multiple-scattering predictions are not supported yet: the fit engine does not \
-             use the random walk yet"
-                .into(),
-        ));
+        return Ok(params.l_multiple_batch(
+            angles,
+            opts.eta,
+            opts.walk_samples as u64,
+            opts.seed,
+        )?);
     }
     Ok(params.l_single_batch(angles, opts.eta, opts.masking)?)
 }
@@ -377,7 +417,25 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
     let mut best: Option<crate::optimize::Minimum> = None;
     let mut iterations = 0;
     let mut last_err = None;
-    for x0 in eval.starts() {
+    let starts = match opts.scattering {
+        Scattering::Single => eval.starts(),
+        // Multiple scattering is a correction to single scattering: start from the optimum of
+        // the same model's single-scattering fit (height-correlated masking, the walk's order 1).
+        Scattering::Multiple => {
+            let single = FitOptions {
+                scattering: Scattering::Single,
+                masking: Masking::Correlated,
+                ..*opts
+            };
+            let prep_single = Prepared {
+                multi: None,
+                ..prep.clone()
+            };
+            let r = fit_prepared(&prep_single, shape, &single)?;
+            vec![shape.coords(r.alpha, r.gamma.unwrap_or(f64::NAN))]
+        }
+    };
+    for x0 in starts {
         match minimize(|x| eval.cost(x), &x0, opts.optimizer) {
             Ok(m) => {
                 iterations += m.iterations;
@@ -449,9 +507,6 @@ fn standard_errors(
     let t = |x: f64| Projected::transform(loss, x);
     let n = m.len();
     let sw: Vec<f64> = eval.proj.w.iter().map(|w| w.sqrt()).collect();
-    let rss: f64 = (0..n)
-        .map(|j| (sw[j] * (eval.proj.y[j] - t(scale * m[j]))).powi(2))
-        .sum();
 
     // Columns of J (up to sign): d T(scale m_j) / d theta_k, times sqrt(w_j).
     let mut cols: Vec<Vec<f64>> = Vec::new();
@@ -466,10 +521,16 @@ fn standard_errors(
         );
         Ok::<(), ParamError>(())
     };
-    let ha = 1e-4 * alpha;
+    // Under multiple scattering the model is piecewise smooth in the parameters (a walk's
+    // discrete choices switch as they change): a wider step averages over those jumps.
+    let rel_step = match eval.opts.scattering {
+        Scattering::Single => 1e-4,
+        Scattering::Multiple => 1e-2,
+    };
+    let ha = rel_step * alpha;
     fd_column((alpha + ha, gamma), (alpha - ha, gamma), 2.0 * ha)?;
     if eval.shape.gamma == Gamma::Free {
-        let hg = 1e-4 * (gamma - 1.5);
+        let hg = rel_step * (gamma - 1.5);
         fd_column((alpha, gamma + hg), (alpha, gamma - hg), 2.0 * hg)?;
     }
     cols.push(
@@ -485,18 +546,50 @@ fn standard_errors(
     );
 
     let p = cols.len();
-    let jtj: Vec<Vec<f64>> = (0..p)
-        .map(|a| {
-            (0..p)
-                .map(|b| cols[a].iter().zip(&cols[b]).map(|(x, y)| x * y).sum())
-                .collect()
-        })
+    let residuals: Vec<f64> = (0..n)
+        .map(|j| sw[j] * (eval.proj.y[j] - t(scale * m[j])))
         .collect();
-    let sigma2 = rss / (n - p) as f64;
-    Ok(match invert_spd(&jtj) {
-        Some(inv) => (0..p).map(|k| (sigma2 * inv[k][k]).sqrt()).collect(),
-        None => vec![f64::NAN; p],
-    })
+    Ok(sandwich_covariance(&cols, &residuals).map_or_else(
+        || vec![f64::NAN; p],
+        |cov| (0..p).map(|k| cov[k][k].sqrt()).collect(),
+    ))
+}
+
+/// The HC1 heteroscedasticity-robust covariance of least-squares estimates,
+/// `n/(n-p) (J^T J)^{-1} (sum_j r_j^2 J_j^T J_j) (J^T J)^{-1}`, from the Jacobian columns
+/// `cols[k][j] = d r_j / d theta_k` (up to a common sign) and the residuals `r_j` at the
+/// optimum; `None` if `J^T J` is numerically singular.
+fn sandwich_covariance(cols: &[Vec<f64>], r: &[f64]) -> Option<Vec<Vec<f64>>> {
+    let (p, n) = (cols.len(), r.len());
+    let outer = |weight: &dyn Fn(usize) -> f64| -> Vec<Vec<f64>> {
+        (0..p)
+            .map(|a| {
+                (0..p)
+                    .map(|b| (0..n).map(|j| weight(j) * cols[a][j] * cols[b][j]).sum())
+                    .collect()
+            })
+            .collect()
+    };
+    let bread = invert_spd(&outer(&|_| 1.0))?;
+    let meat = outer(&|j| r[j] * r[j]);
+    let dof = n as f64 / (n - p) as f64;
+    Some(
+        (0..p)
+            .map(|a| {
+                (0..p)
+                    .map(|b| {
+                        let mut s = 0.0;
+                        for k in 0..p {
+                            for l in 0..p {
+                                s += bread[a][k] * meat[k][l] * bread[l][b];
+                            }
+                        }
+                        dof * s
+                    })
+                    .collect()
+            })
+            .collect(),
+    )
 }
 
 /// Inverse of a small symmetric positive definite matrix by Gauss-Jordan elimination with

@@ -105,6 +105,8 @@ pub struct FitOptions {
     pub eta: f64,
     pub loss: Loss,
     pub optimizer: Optimizer,
+    /// Smith masking of the single-scattering model. Ignored by `Scattering::Multiple`, whose
+    /// model is height-correlated by construction (the random walk's order 1 term).
     pub masking: stfit_core::bsdf::Masking,
     pub scattering: Scattering,
     /// Seed of the random walks (common random numbers) for `Scattering::Multiple`.
@@ -180,6 +182,29 @@ impl ModelParams {
         let mut out = Vec::with_capacity(angles.len());
         geom.unit_model(&ndf, masking, &mut out);
         out.iter_mut().for_each(|l| *l *= self.scale);
+        Ok(out)
+    }
+
+    /// The all-orders model `L = scale (f_single + f_multi) cos(theta_i) / eta^2` at many
+    /// `(theta_i_deg, theta_o_deg)` pairs: `f_single` the analytic single-scattering BTDF with
+    /// height-correlated masking (exactly the walk's order 1), `f_multi` the order >= 2 estimate
+    /// of `walks` random walks per incidence angle from `seed` (see
+    /// [`MultipleGeometry`](crate::objective::MultipleGeometry)).
+    pub fn l_multiple_batch(
+        &self,
+        angles: &[(f64, f64)],
+        eta: f64,
+        walks: u64,
+        seed: u64,
+    ) -> Result<Vec<f64>, stfit_core::ParamError> {
+        let mut out = self.l_single_batch(angles, eta, stfit_core::bsdf::Masking::Correlated)?;
+        let multi =
+            crate::objective::MultipleGeometry::new(angles.iter().copied(), eta, walks, seed)?;
+        let mut m = vec![0.0; angles.len()];
+        multi.add_unit_model(&self.ndf()?, &mut m)?;
+        out.iter_mut()
+            .zip(&m)
+            .for_each(|(l, m)| *l += self.scale * m);
         Ok(out)
     }
 }

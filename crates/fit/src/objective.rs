@@ -19,6 +19,7 @@ use std::collections::HashMap;
 use stfit_core::bsdf::{Masking, fresnel_dielectric};
 use stfit_core::error::check_eta;
 use stfit_core::ndf::{AnyNdf, Ndf};
+use stfit_core::walk::{DielectricFacet, Microsurface, ScatteringOrders};
 use stfit_core::{ParamError, Vec3};
 
 use crate::model::{Loss, wi_from_deg, wo_from_deg};
@@ -128,6 +129,95 @@ impl Geometry {
             }
         }
     }
+}
+
+/// The configurations of one incidence angle, for the random walk.
+#[derive(Debug, Clone, PartialEq)]
+struct WalkGroup {
+    wi: Vec3,
+    /// Seed of this incidence's walks: fixed, so every evaluation reuses the same random numbers.
+    seed: u64,
+    /// Indices of the configurations (into the order given to [`MultipleGeometry::new`]).
+    index: Vec<usize>,
+    wos: Vec<Vec3>,
+}
+
+/// The order >= 2 part of the model on a set of configurations, by the height-field random walk
+/// (Heitz et al. 2016) on a dielectric microsurface with the NDF under test.
+///
+/// The configurations are grouped by incidence angle; every group runs one set of walks with
+/// next-event estimation toward all its transmitted directions
+/// ([`Microsurface::eval_many`](stfit_core::walk::Microsurface::eval_many)). Each group's seed is
+/// fixed from the run's seed and the incidence angle (common random numbers), so the result is a
+/// deterministic, piecewise smooth function of the NDF parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MultipleGeometry {
+    groups: Vec<WalkGroup>,
+    len: usize,
+    eta: f64,
+    walks: u64,
+}
+
+impl MultipleGeometry {
+    /// Groups `(theta_i_deg, theta_o_deg)` configurations (data convention) by incidence, for
+    /// `walks` walks per incidence angle from seed `seed`.
+    pub fn new(
+        angles: impl IntoIterator<Item = (f64, f64)>,
+        eta: f64,
+        walks: u64,
+        seed: u64,
+    ) -> Result<Self, ParamError> {
+        let eta = check_eta(eta)?;
+        let mut groups: Vec<WalkGroup> = Vec::new();
+        let mut by_angle: HashMap<u64, usize> = HashMap::new();
+        let mut len = 0;
+        for (j, (ti, to)) in angles.into_iter().enumerate() {
+            let g = *by_angle.entry(ti.to_bits()).or_insert_with(|| {
+                groups.push(WalkGroup {
+                    wi: wi_from_deg(ti),
+                    seed: incidence_seed(seed, ti),
+                    index: Vec::new(),
+                    wos: Vec::new(),
+                });
+                groups.len() - 1
+            });
+            groups[g].index.push(j);
+            groups[g].wos.push(wo_from_deg(to));
+            len = j + 1;
+        }
+        Ok(Self {
+            groups,
+            len,
+            eta,
+            walks,
+        })
+    }
+
+    /// Adds the unit-scale order >= 2 model `f_multi(wi, wo) cos(theta_i) / eta^2` of every
+    /// configuration to `out` (of length the number of configurations).
+    pub fn add_unit_model(&self, ndf: &AnyNdf, out: &mut [f64]) -> Result<(), ParamError> {
+        assert_eq!(out.len(), self.len, "one output per configuration");
+        let surface = Microsurface::new(*ndf, DielectricFacet::new(self.eta)?)
+            .with_orders(ScatteringOrders::Multiple);
+        let radiance = 1.0 / (self.eta * self.eta);
+        for g in &self.groups {
+            let est = surface.eval_many(g.wi, &g.wos, self.walks, g.seed);
+            for ((&j, wo), e) in g.index.iter().zip(&g.wos).zip(est) {
+                // eval_many estimates f |wo.z|; L wants f cos(theta_i).
+                out[j] += e.mean / wo.z.abs() * g.wi.z * radiance;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The walk seed of one incidence angle: the run's seed mixed with the angle's bits
+/// (SplitMix64 finaliser), so each incidence has its own stream whatever the grouping order.
+fn incidence_seed(seed: u64, theta_i_deg: f64) -> u64 {
+    let mut z = seed ^ theta_i_deg.to_bits().wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
 }
 
 fn ln_gamma_or_inf(x: f64) -> f64 {

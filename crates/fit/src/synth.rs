@@ -12,7 +12,7 @@ use thiserror::Error;
 
 use crate::data::{Measurement, Sample};
 use crate::load::{COL_L, COL_SAMPLE, COL_THETA_I, COL_THETA_O};
-use crate::model::{ModelKind, ModelParams};
+use crate::model::{ModelKind, ModelParams, Scattering};
 
 /// Most points one synthetic sample may have (guards against a mistyped grid step).
 pub const MAX_POINTS: usize = 1_000_000;
@@ -45,6 +45,9 @@ pub enum SynthError {
     /// An empty list of angles.
     #[error("no {0} angles given")]
     NoAngles(&'static str),
+    /// A multiple-scattering request that makes no sense (no walks, separable masking).
+    #[error("{0}")]
+    Scattering(&'static str),
     /// Too many points.
     #[error("the grid has {0} points; at most {MAX_POINTS} are allowed")]
     TooManyPoints(usize),
@@ -65,7 +68,15 @@ pub struct SynthSpec {
     pub gamma_given: bool,
     /// Relative index of the glass.
     pub eta: f64,
+    /// Smith masking; must be `Correlated` for `Scattering::Multiple` (the random walk is
+    /// height-correlated by construction).
     pub masking: Masking,
+    /// Single scattering, or all orders (the walk's order >= 2 estimate added to the
+    /// height-correlated single-scattering BTDF, as fitted by `Scattering::Multiple`).
+    pub scattering: Scattering,
+    /// Random walks per incidence angle for `Scattering::Multiple` (> 0 there), seeded with
+    /// `seed`.
+    pub walks: u64,
     /// Incidence angles (degrees, [0, 90)); the outer loop of the rows.
     pub theta_i_deg: Vec<f64>,
     /// Transmitted directions (degrees, (90, 270)); the inner loop of the rows.
@@ -102,6 +113,19 @@ impl SynthSpec {
         if !(self.noise.is_finite() && self.noise >= 0.0) {
             return Err(SynthError::Noise(self.noise));
         }
+        if self.scattering == Scattering::Multiple {
+            if self.masking != Masking::Correlated {
+                return Err(SynthError::Scattering(
+                    "multiple scattering is height-correlated by construction: use correlated \
+                     masking",
+                ));
+            }
+            if self.walks == 0 {
+                return Err(SynthError::Scattering(
+                    "multiple scattering needs at least one random walk per incidence angle",
+                ));
+            }
+        }
         check_angles(COL_THETA_I, &self.theta_i_deg, "[0, 90)", |t| {
             (0.0..90.0).contains(&t)
         })?;
@@ -126,27 +150,41 @@ impl SynthSpec {
         Ok(())
     }
 
-    /// The synthetic sample: for each `theta_i` (outer) and `theta_o` (inner), the
-    /// single-scattering model value with multiplicative noise
-    /// `max(0, L (1 + noise z))`, `z ~ N(0, 1)` drawn in row order from PCG-64 seeded with `seed`.
+    /// The synthetic sample: for each `theta_i` (outer) and `theta_o` (inner), the model value
+    /// (single scattering, [`ModelParams::l_single`], or all orders,
+    /// [`ModelParams::l_multiple_batch`] with `walks` walks per incidence from `seed`) with
+    /// multiplicative noise `max(0, L (1 + noise z))`, `z ~ N(0, 1)` drawn in row order from
+    /// PCG-64 seeded with `seed`.
     pub fn sample(&self) -> Result<Sample, SynthError> {
         self.validate()?;
+        let angles: Vec<(f64, f64)> = self
+            .theta_i_deg
+            .iter()
+            .flat_map(|&ti| self.theta_o_deg.iter().map(move |&to| (ti, to)))
+            .collect();
+        let l = match self.scattering {
+            Scattering::Single => angles
+                .iter()
+                .map(|&(ti, to)| self.params.l_single(ti, to, self.eta, self.masking))
+                .collect::<Result<Vec<f64>, ParamError>>()?,
+            Scattering::Multiple => self
+                .params
+                .l_multiple_batch(&angles, self.eta, self.walks, self.seed)?,
+        };
         let mut rng = Pcg64::seed_from_u64(self.seed);
-        let mut points = Vec::with_capacity(self.theta_i_deg.len() * self.theta_o_deg.len());
-        for &theta_i_deg in &self.theta_i_deg {
-            for &theta_o_deg in &self.theta_o_deg {
-                let l = self
-                    .params
-                    .l_single(theta_i_deg, theta_o_deg, self.eta, self.masking)?;
+        let points = angles
+            .iter()
+            .zip(l)
+            .map(|(&(theta_i_deg, theta_o_deg), l)| {
                 let z: f64 = StandardNormal.sample(&mut rng);
-                points.push(Measurement {
+                Measurement {
                     theta_i_deg,
                     theta_o_deg,
                     l: (l * (1.0 + self.noise * z)).max(0.0),
                     weight: 1.0,
-                });
-            }
-        }
+                }
+            })
+            .collect();
         Ok(Sample {
             name: self.name.clone(),
             points,
@@ -270,6 +308,8 @@ mod tests {
             gamma_given: true,
             eta: 1.51,
             masking: Masking::Separable,
+            scattering: Scattering::Single,
+            walks: 1,
             theta_i_deg: vec![0.0, 30.0, 60.0, 80.0],
             theta_o_deg: parse_angle_list("106:254:2").unwrap(),
             noise: 0.0,
@@ -367,6 +407,15 @@ mod tests {
             (|s| s.theta_o_deg = vec![270.0], "theta_o_deg"),
             (|s| s.name = "#x".into(), "sample name"),
             (|s| s.name = String::new(), "sample name"),
+            (|s| s.scattering = Scattering::Multiple, "height-correlated"),
+            (
+                |s| {
+                    s.scattering = Scattering::Multiple;
+                    s.masking = Masking::Correlated;
+                    s.walks = 0;
+                },
+                "random walk",
+            ),
         ];
         for (modify, word) in cases {
             let mut s = spec();
@@ -374,5 +423,40 @@ mod tests {
             let e = s.sample().unwrap_err().to_string();
             assert!(e.contains(word), "{e} should mention {word}");
         }
+    }
+
+    /// Multiple scattering adds the walk's orders >= 2 to the height-correlated single
+    /// scattering: more light everywhere, deterministic for a seed.
+    #[test]
+    fn multiple_scattering_sample_adds_to_single_scattering() {
+        let mut s = spec();
+        s.params.alpha = 0.6;
+        s.theta_o_deg = parse_angle_list("110:250:10").unwrap();
+        s.masking = Masking::Correlated;
+        let single = s.sample().unwrap();
+        s.scattering = Scattering::Multiple;
+        s.walks = 2000;
+        let multi = s.sample().unwrap();
+        assert_eq!(multi, s.sample().unwrap());
+        let (ls, lm): (f64, f64) = single
+            .points
+            .iter()
+            .zip(&multi.points)
+            .map(|(a, b)| (a.l, b.l))
+            .fold((0.0, 0.0), |(x, y), (a, b)| (x + a, y + b));
+        assert!(
+            single
+                .points
+                .iter()
+                .zip(&multi.points)
+                .all(|(a, b)| b.l >= a.l),
+            "orders >= 2 only add light"
+        );
+        // At alpha 0.6 multiple scattering is a few percent of the transmitted light.
+        assert!(
+            (1.005..1.5).contains(&(lm / ls)),
+            "multiple / single {}",
+            lm / ls
+        );
     }
 }

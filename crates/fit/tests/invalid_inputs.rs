@@ -115,13 +115,14 @@ fn invalid_points_and_options_are_rejected() {
         let e = fit_sample(&good(), ggx, &o).unwrap_err();
         assert!(matches!(e, FitError::InvalidParameter(_)), "eta {eta}: {e}");
     }
-    let multiple = FitOptions {
+    let no_walks = FitOptions {
         scattering: Scattering::Multiple,
+        walk_samples: 0,
         ..opts
     };
     assert!(matches!(
-        fit_sample(&good(), ggx, &multiple),
-        Err(FitError::Unsupported(_))
+        fit_sample(&good(), ggx, &no_walks),
+        Err(FitError::InvalidSpec(_))
     ));
     let params = ModelParams {
         kind: ModelKind::StudentT,

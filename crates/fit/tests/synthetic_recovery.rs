@@ -139,16 +139,21 @@ fn fixed_gamma_fits_alpha_and_scale_only() {
     );
 }
 
-/// The reported standard errors match the actual scatter of the estimates when the noise is
-/// what the formula assumes: additive, homoscedastic noise on `sqrt(L)` (the sqrt loss).
-#[test]
-fn standard_errors_match_the_scatter_of_estimates() {
+/// How noise enters the replications of [`calibration`].
+#[derive(Debug, Clone, Copy)]
+enum Noise {
+    /// `sqrt(L) + sd z`: equal noise in every residual of the sqrt loss.
+    AdditiveSqrt(f64),
+    /// `L (1 + sd z)`: noise proportional to the signal, unequal across residuals.
+    Multiplicative(f64),
+}
+
+/// Ratio of the empirical standard deviation of the estimates of `(alpha, gamma, scale)` over
+/// `reps` noisy replications of `truth` to the mean reported standard error.
+fn calibration(truth: ModelParams, noise: Noise, reps: usize, seed: u64) -> [f64; 3] {
     use rand::{RngExt, SeedableRng};
-    let truth = params(ModelKind::StudentT, 0.3, 2.5, 2.0);
     let clean = common::synthetic(&truth, 0.0, 0);
-    let sd_noise = 0.01;
-    let reps = 200;
-    let mut rng = rand_pcg::Pcg64::seed_from_u64(42);
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
     let mut est: Vec<[f64; 3]> = Vec::new();
     let mut se: Vec<[f64; 3]> = Vec::new();
     for _ in 0..reps {
@@ -157,27 +162,61 @@ fn standard_errors_match_the_scatter_of_estimates() {
             // Box-Muller normal deviate.
             let (u1, u2): (f64, f64) = (rng.random(), rng.random());
             let z = (-2.0 * (1.0 - u1).ln()).sqrt() * (std::f64::consts::TAU * u2).cos();
-            let y = p.l.sqrt() + sd_noise * z;
-            p.l = y * y.abs();
+            p.l = match noise {
+                Noise::AdditiveSqrt(sd) => {
+                    let y = p.l.sqrt() + sd * z;
+                    y * y.abs()
+                }
+                Noise::Multiplicative(sd) => p.l * (1.0 + sd * z),
+            };
         }
-        let r = fit_sample(&sample, spec(ModelKind::StudentT), &FitOptions::default()).unwrap();
-        est.push([r.alpha, r.gamma.unwrap(), r.scale]);
-        se.push([r.alpha_stderr, r.gamma_stderr.unwrap(), r.scale_stderr]);
+        let r = fit_sample(&sample, spec(truth.kind), &FitOptions::default()).unwrap();
+        est.push([r.alpha, r.gamma.unwrap_or(0.0), r.scale]);
+        se.push([
+            r.alpha_stderr,
+            r.gamma_stderr.unwrap_or(0.0),
+            r.scale_stderr,
+        ]);
     }
+    let mut ratios = [f64::NAN; 3];
     for (k, name) in ["alpha", "gamma", "scale"].iter().enumerate() {
         let mean = est.iter().map(|e| e[k]).sum::<f64>() / reps as f64;
         let sd =
             (est.iter().map(|e| (e[k] - mean).powi(2)).sum::<f64>() / (reps - 1) as f64).sqrt();
         let se_mean = se.iter().map(|s| s[k]).sum::<f64>() / reps as f64;
+        ratios[k] = sd / se_mean;
         println!(
-            "{name}: empirical sd {sd:.3e}, mean reported stderr {se_mean:.3e}, ratio {:.3}",
-            sd / se_mean
+            "{:?} {noise:?} {name}: empirical sd {sd:.3e}, mean reported stderr {se_mean:.3e}, \
+             ratio {:.3}",
+            truth.kind, ratios[k]
         );
-        // With 60 replications the sample sd is within about +-25% of the truth (3 sigma).
-        assert!(
-            (0.7..1.4).contains(&(sd / se_mean)),
-            "{name}: sd {sd} vs stderr {se_mean}"
-        );
+    }
+    ratios
+}
+
+/// With 200 replications the sample sd is within about +-15% of the truth (3 sigma), so a
+/// calibrated standard error gives a ratio in 0.8..1.25.
+const CALIBRATED: std::ops::Range<f64> = 0.8..1.25;
+
+/// The reported (sandwich) standard errors match the actual scatter of the estimates under
+/// additive, homoscedastic noise on `sqrt(L)` (what the classical formula assumes).
+#[test]
+fn standard_errors_match_the_scatter_under_additive_noise() {
+    let truth = params(ModelKind::StudentT, 0.3, 2.5, 2.0);
+    let ratios = calibration(truth, Noise::AdditiveSqrt(0.01), 200, 42);
+    for (k, r) in ratios.iter().enumerate() {
+        assert!(CALIBRATED.contains(r), "parameter {k}: sd / stderr {r}");
+    }
+}
+
+/// The standard errors stay calibrated under multiplicative noise, where the residuals of the
+/// sqrt loss have unequal variances (the classical `sigma^2 (J^T J)^-1` is off there).
+#[test]
+fn standard_errors_match_the_scatter_under_multiplicative_noise() {
+    let truth = params(ModelKind::StudentT, 0.3, 2.5, 2.0);
+    let ratios = calibration(truth, Noise::Multiplicative(0.05), 200, 43);
+    for (k, r) in ratios.iter().enumerate() {
+        assert!(CALIBRATED.contains(r), "parameter {k}: sd / stderr {r}");
     }
 }
 
