@@ -46,7 +46,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         None => cmd::fit::run(cli.fit),
         Some(Command::Synth(args)) => cmd::synth::run(args),
-        Some(Command::Eval(args)) => cmd::eval::run(&args).map_err(cmd::CmdError::Failed),
+        Some(Command::Eval(args)) => cmd::eval::run(&args),
         Some(Command::Albedo(args)) => cmd::albedo::run(&args),
         Some(Command::Report(args)) => cmd::report::run(args),
     };
