@@ -97,6 +97,11 @@ fn param(e: ParamError) -> CmdError {
     usage(e.to_string())
 }
 
+/// A parameter error prefixed by the option it came from.
+fn option(name: &'static str) -> impl Fn(ParamError) -> CmdError {
+    move |e| usage(format!("{name}: {e}"))
+}
+
 /// The height-field NDF of `family` with `alpha` and `gamma`.
 fn height_field(
     family: BaseKind,
@@ -132,7 +137,7 @@ impl Options {
             let kappa = self
                 .kappa
                 .ok_or_else(|| usage("--kappa is required for --ndf vmf"))?;
-            SurfaceNdf::Vmf(VonMisesFisher::new(kappa).map_err(param)?)
+            SurfaceNdf::Vmf(VonMisesFisher::new(kappa).map_err(option("--kappa"))?)
         } else if self.porous {
             if self.kappa.is_some() {
                 return Err(usage("--kappa applies only to --ndf vmf"));
@@ -144,9 +149,15 @@ impl Options {
                 .porosity
                 .ok_or_else(|| usage("--porosity is required for --ndf porous"))?;
             SurfaceNdf::Porous(match height_field(base, self.alpha, self.gamma)? {
-                SurfaceNdf::Beckmann(b) => PorousNdf::Beckmann(Porous::new(b, p).map_err(param)?),
-                SurfaceNdf::Ggx(b) => PorousNdf::Ggx(Porous::new(b, p).map_err(param)?),
-                SurfaceNdf::StudentT(b) => PorousNdf::StudentT(Porous::new(b, p).map_err(param)?),
+                SurfaceNdf::Beckmann(b) => {
+                    PorousNdf::Beckmann(Porous::new(b, p).map_err(option("--porosity"))?)
+                }
+                SurfaceNdf::Ggx(b) => {
+                    PorousNdf::Ggx(Porous::new(b, p).map_err(option("--porosity"))?)
+                }
+                SurfaceNdf::StudentT(b) => {
+                    PorousNdf::StudentT(Porous::new(b, p).map_err(option("--porosity"))?)
+                }
                 SurfaceNdf::Vmf(_) | SurfaceNdf::Porous(_) => unreachable!("a height field"),
             })
         } else {
@@ -187,7 +198,9 @@ impl Options {
                 self.only(FacetKind::Conductor)?;
                 SurfaceFacet::Conductor(match (self.n, self.k) {
                     (None, None) => ConductorFacet::mirror(),
-                    (Some(n), Some(k)) => ConductorFacet::fresnel(n, k).map_err(param)?,
+                    (Some(n), Some(k)) => {
+                        ConductorFacet::fresnel(n, k).map_err(option("--n/--k"))?
+                    }
                     _ => return Err(usage("--n and --k go together")),
                 })
             }
@@ -196,7 +209,7 @@ impl Options {
                 let r = self
                     .reflectance
                     .ok_or_else(|| usage("--reflectance is required for --facet lambertian"))?;
-                SurfaceFacet::Lambertian(LambertianFacet::new(r).map_err(param)?)
+                SurfaceFacet::Lambertian(LambertianFacet::new(r).map_err(option("--reflectance"))?)
             }
         };
         Ok((ndf, facet))

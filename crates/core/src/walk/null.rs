@@ -264,7 +264,9 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
                 depth = mirrored_depth(depth);
                 inside = now_inside;
             }
-            w = s.wo;
+            // Renormalised: rounding in the facet frames would otherwise compound over the
+            // thousands of real collisions of a near-isotropic NDF.
+            w = s.wo.normalize();
         }
     }
 
