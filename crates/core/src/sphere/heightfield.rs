@@ -40,8 +40,16 @@ impl SphereNdf for Beckmann {
 }
 
 impl SphereNdf for Ggx {
+    /// `alpha^2 / (pi (alpha^2 u^2 + 1 - u^2)^2)` above the horizon: no square root, as the
+    /// null-scattering walk evaluates it at every tentative collision.
+    #[inline]
     fn d_cos(&self, u: f64) -> f64 {
-        d_cos_height_field(self, u)
+        if u <= 0.0 {
+            return 0.0;
+        }
+        let a2 = self.alpha() * self.alpha();
+        let k = 1.0 + (a2 - 1.0) * u * u;
+        a2 / (std::f64::consts::PI * k * k)
     }
 
     /// `D` is proportional to `((1+x)/(alpha^2+x))^2`: largest at `x = 0` for `alpha <= 1`,

@@ -105,10 +105,21 @@ impl<S: SphereNdf> VisibleNormals for NullHit<'_, S> {
 /// A unit vector drawn with density `max(0, v . m) / pi` about the unit vector `v`.
 #[inline]
 fn cosine_about<R: Rng + ?Sized>(v: Vec3, rng: &mut R) -> Vec3 {
-    let (u1, u2): (f64, f64) = (rng.random(), rng.random());
-    let r = u1.sqrt();
-    let (sp, cp) = (2.0 * PI * u2).sin_cos();
-    Frame::from_normal(v).to_world(Vec3::new(r * cp, r * sp, safe_sqrt(1.0 - u1)))
+    Frame::from_normal(v).to_world(cosine_local(rng))
+}
+
+/// A unit vector drawn with density `max(0, z) / pi` (Malley: a uniform point of the unit disk,
+/// by rejection from the square, lifted to the hemisphere; no trigonometry).
+#[inline]
+fn cosine_local<R: Rng + ?Sized>(rng: &mut R) -> Vec3 {
+    loop {
+        let x = 2.0 * rng.random::<f64>() - 1.0;
+        let y = 2.0 * rng.random::<f64>() - 1.0;
+        let r2 = x * x + y * y;
+        if r2 < 1.0 {
+            return Vec3::new(x, y, safe_sqrt(1.0 - r2));
+        }
+    }
 }
 
 impl<S: SphereNdf, F: Facet> NullMicrosurface<S, F> {
@@ -213,11 +224,16 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
         let mut depth = 0.0f64;
         let mut weight = 1.0f64;
         let mut real = 0u32;
+        // Per direction (changed only by real collisions): the direction in the frame of the
+        // surface on the walker's side, the depth per unit exponential flight, and the frame of
+        // the cosine lobe of tentative normals about `-ws`.
+        let mut ws = if inside { -w } else { w };
+        let mut step = ws.z.abs() / rate;
+        let mut lobe = Frame::from_normal(-ws);
         loop {
-            // Fly to the next tentative collision, in the frame of the surface on the walker's side.
-            let ws = if inside { -w } else { w };
+            // Fly to the next tentative collision.
             let flight: f64 = rng.sample(Exp1);
-            let dt = flight * ws.z.abs() / rate;
+            let dt = flight * step;
             if ws.z > 0.0 {
                 depth -= dt;
                 if depth.is_nan() || depth <= 0.0 {
@@ -243,11 +259,14 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
                     rng,
                 );
             }
-            // Real with probability D(m) / Dbar for a cosine-distributed normal m.
-            let m = cosine_about(-ws, rng);
-            if rng.random::<f64>() * self.bound >= self.ndf.d(m) {
+            // Real with probability D(m) / Dbar for a cosine-distributed normal m; D needs only
+            // m.z, the full normal only a real collision.
+            let local = cosine_local(rng);
+            let mz = lobe.s.z * local.x + lobe.t.z * local.y + lobe.n.z * local.z;
+            if rng.random::<f64>() * self.bound >= self.ndf.d_cos(mz.clamp(-1.0, 1.0)) {
                 continue;
             }
+            let m = lobe.to_world(local);
             real += 1;
             if real > last {
                 return WalkEnd::Stopped;
@@ -267,6 +286,9 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
             // Renormalised: rounding in the facet frames would otherwise compound over the
             // thousands of real collisions of a near-isotropic NDF.
             w = s.wo.normalize();
+            ws = if inside { -w } else { w };
+            step = ws.z.abs() / rate;
+            lobe = Frame::from_normal(-ws);
         }
     }
 
