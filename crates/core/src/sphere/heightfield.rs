@@ -34,6 +34,10 @@ impl SphereNdf for Beckmann {
         MARGIN * d_at_tan2(self, (2.0 * a2 - 1.0).max(0.0))
     }
 
+    fn height_field(&self) -> bool {
+        true
+    }
+
     fn angular_width(&self) -> f64 {
         self.alpha().atan()
     }
@@ -57,6 +61,10 @@ impl SphereNdf for Ggx {
     fn bound(&self) -> f64 {
         let a2 = self.alpha() * self.alpha();
         MARGIN * (1.0 / (std::f64::consts::PI * a2)).max(a2 / std::f64::consts::PI)
+    }
+
+    fn height_field(&self) -> bool {
+        true
     }
 
     fn angular_width(&self) -> f64 {
@@ -85,6 +93,10 @@ impl SphereNdf for StudentT {
         let big_a = a2 * (g - 1.0);
         let x = ((2.0 * big_a - g) / (g - 2.0)).max(0.0);
         MARGIN * d_at_tan2(self, x)
+    }
+
+    fn height_field(&self) -> bool {
+        true
     }
 
     fn angular_width(&self) -> f64 {

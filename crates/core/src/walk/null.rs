@@ -53,8 +53,8 @@ pub struct NullMicrosurface<S, F> {
 }
 
 /// A tentative collision of the null-scattering walk, seen by next-event estimation: normals
-/// with density `max(0, wi_side . m) D(m) / (pi Dbar)`, drawn cosine-weighted with weight
-/// `D(m) / Dbar`.
+/// with density `max(0, wi_side . m) D(m) / sigma_bar(wi_side)`, drawn from the majorant's
+/// visible normals with weight `D(m) / Dbar` (see [`majorant_sigma`]).
 #[derive(Debug, Clone, Copy)]
 pub struct NullHit<'a, S> {
     ndf: &'a S,
@@ -64,7 +64,8 @@ pub struct NullHit<'a, S> {
 }
 
 impl<'a, S: SphereNdf> NullHit<'a, S> {
-    /// A tentative collision of light arriving from `wi` on the given side, majorant `bound`.
+    /// A tentative collision of light arriving from `wi` on the given side, majorant `bound`
+    /// (on the upper hemisphere if the NDF is a height field, else on the sphere).
     pub fn new(ndf: &'a S, wi: Vec3, inside: bool, bound: f64) -> Self {
         Self {
             ndf,
@@ -72,6 +73,90 @@ impl<'a, S: SphereNdf> NullHit<'a, S> {
             inside,
             bound,
         }
+    }
+}
+
+/// Projected area `sigma_bar(v)` seen from the unit `v` of the majorant: `pi Dbar` for the
+/// constant `Dbar` on the sphere, `pi Dbar (1 + v.z) / 2` for `Dbar` on the upper hemisphere
+/// (zero below), which suffices for height fields and wastes no tentative collisions on
+/// normals below the horizon.
+#[inline]
+pub fn majorant_sigma(bound: f64, upper: bool, v: Vec3) -> f64 {
+    if upper {
+        0.5 * PI * bound * (1.0 + v.z)
+    } else {
+        PI * bound
+    }
+}
+
+/// A visible normal of the constant NDF on the upper hemisphere (GGX at alpha = 1) seen from
+/// the unit `v`: Dupuy and Benyoub 2023's spherical cap, with the azimuth of a uniform point of
+/// the unit disk doubled (no trigonometry). Returns `m.z` first and `m` lazily: the walk needs
+/// the whole normal only at real collisions.
+#[derive(Debug, Clone, Copy)]
+struct CapSample {
+    /// `sqrt(1 - z^2) cos phi`, `sqrt(1 - z^2) sin phi` and `z` of the cap point.
+    c: Vec3,
+    /// `1 / |c + v|`.
+    inv_len: f64,
+}
+
+/// The per-direction quantities of [`CapSample`]: `v`, `|v_xy|` and the unit azimuth of `v`.
+#[derive(Debug, Clone, Copy)]
+struct Cap {
+    v: Vec3,
+    vxy: f64,
+    ex: f64,
+    ey: f64,
+}
+
+impl Cap {
+    #[inline]
+    fn new(v: Vec3) -> Self {
+        let vxy = v.x.hypot(v.y);
+        let (ex, ey) = if vxy > 0.0 {
+            (v.x / vxy, v.y / vxy)
+        } else {
+            (1.0, 0.0)
+        };
+        Self { v, vxy, ex, ey }
+    }
+
+    /// One visible normal; `None` in the measure-zero degenerate case `c = -v`.
+    #[inline]
+    fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> Option<(f64, CapSample)> {
+        let (x, y, r2) = loop {
+            let x = 2.0 * rng.random::<f64>() - 1.0;
+            let y = 2.0 * rng.random::<f64>() - 1.0;
+            let r2 = x * x + y * y;
+            if r2 < 1.0 && r2 > 0.0 {
+                break (x, y, r2);
+            }
+        };
+        let (cp, sp) = ((x * x - y * y) / r2, 2.0 * x * y / r2);
+        let vz = self.v.z;
+        let z = (1.0 - rng.random::<f64>()) * (1.0 + vz) - vz;
+        let s = safe_sqrt(1.0 - z * z);
+        let len2 = 2.0 + 2.0 * (s * cp * self.vxy + z * vz);
+        if len2 <= 0.0 {
+            return None;
+        }
+        let inv_len = 1.0 / len2.sqrt();
+        Some((
+            (z + vz) * inv_len,
+            CapSample {
+                c: Vec3::new(s * cp, s * sp, z),
+                inv_len,
+            },
+        ))
+    }
+
+    /// The normal of a [`CapSample`] in world coordinates.
+    #[inline]
+    fn normal(&self, c: &CapSample) -> Vec3 {
+        let (a, b) = (c.c.x, c.c.y);
+        let cw = Vec3::new(a * self.ex - b * self.ey, a * self.ey + b * self.ex, c.c.z);
+        (cw + self.v) * c.inv_len
     }
 }
 
@@ -88,16 +173,26 @@ impl<S: SphereNdf> VisibleNormals for NullHit<'_, S> {
 
     #[inline]
     fn density(&self, m: Vec3) -> f64 {
-        let c = self.wi_side().dot(&m);
+        let v = self.wi_side();
+        let c = v.dot(&m);
         if c <= 0.0 {
             return 0.0;
         }
-        c * self.ndf.d(m) / (PI * self.bound)
+        c * self.ndf.d(m) / majorant_sigma(self.bound, self.ndf.height_field(), v)
     }
 
     #[inline]
     fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> (Vec3, f64) {
-        let m = cosine_about(self.wi_side(), rng);
+        let v = self.wi_side();
+        let m = if self.ndf.height_field() {
+            let cap = Cap::new(v);
+            match cap.sample(rng) {
+                Some((_, c)) => cap.normal(&c),
+                None => return (v, 0.0),
+            }
+        } else {
+            cosine_about(v, rng)
+        };
         (m, self.ndf.d(m) / self.bound)
     }
 }
@@ -218,7 +313,7 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
         mut visit: impl FnMut(&Hit, &mut R),
     ) -> WalkEnd {
         let last = self.orders.last_order();
-        let rate = PI * self.bound;
+        let upper = self.ndf.height_field();
         let mut w = -start.wi;
         let mut inside = start.wi.z < 0.0;
         let mut depth = 0.0f64;
@@ -228,8 +323,10 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
         // surface on the walker's side, the depth per unit exponential flight, and the frame of
         // the cosine lobe of tentative normals about `-ws`.
         let mut ws = if inside { -w } else { w };
+        let mut rate = majorant_sigma(self.bound, upper, -ws);
         let mut step = ws.z.abs() / rate;
         let mut lobe = Frame::from_normal(-ws);
+        let mut cap = Cap::new(-ws);
         loop {
             // Fly to the next tentative collision.
             let flight: f64 = rng.sample(Exp1);
@@ -259,14 +356,24 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
                     rng,
                 );
             }
-            // Real with probability D(m) / Dbar for a cosine-distributed normal m; D needs only
-            // m.z, the full normal only a real collision.
-            let local = cosine_local(rng);
-            let mz = lobe.s.z * local.x + lobe.t.z * local.y + lobe.n.z * local.z;
-            if rng.random::<f64>() * self.bound >= self.ndf.d_cos(mz.clamp(-1.0, 1.0)) {
-                continue;
-            }
-            let m = lobe.to_world(local);
+            // Real with probability D(m) / Dbar for a visible normal m of the majorant; D needs
+            // only m.z, the full normal only a real collision.
+            let m = if upper {
+                let Some((mz, c)) = cap.sample(rng) else {
+                    continue;
+                };
+                if rng.random::<f64>() * self.bound >= self.ndf.d_cos(mz.clamp(-1.0, 1.0)) {
+                    continue;
+                }
+                cap.normal(&c)
+            } else {
+                let local = cosine_local(rng);
+                let mz = lobe.s.z * local.x + lobe.t.z * local.y + lobe.n.z * local.z;
+                if rng.random::<f64>() * self.bound >= self.ndf.d_cos(mz.clamp(-1.0, 1.0)) {
+                    continue;
+                }
+                lobe.to_world(local)
+            };
             real += 1;
             if real > last {
                 return WalkEnd::Stopped;
@@ -287,8 +394,13 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
             // thousands of real collisions of a near-isotropic NDF.
             w = s.wo.normalize();
             ws = if inside { -w } else { w };
+            rate = majorant_sigma(self.bound, upper, -ws);
             step = ws.z.abs() / rate;
-            lobe = Frame::from_normal(-ws);
+            if upper {
+                cap = Cap::new(-ws);
+            } else {
+                lobe = Frame::from_normal(-ws);
+            }
         }
     }
 
