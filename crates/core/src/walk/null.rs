@@ -16,29 +16,31 @@ use std::f64::consts::PI;
 /// null-scattering walk. As a [`Bsdf`] it has the same semantics as
 /// [`Microsurface`](super::Microsurface): `eval` and `pdf` are unbiased one-walk estimates,
 /// `sample` fills `pdf` with one `pdf` estimate. Each `eval` or `pdf` call computes
-/// `sigma(-wo)` by quadrature (tens of microseconds); `eval_many` does it once per direction. The walk follows d'Eon 2023 (section 3 of the
-/// seed paper; theory section 7).
+/// `sigma(-wo)` by quadrature (tens of microseconds); `eval_many` does it once per direction.
+/// The walk follows d'Eon 2023 (section 3 of the seed paper; theory section 7).
 ///
 /// The microsurface is the half-space of depths `t >= 0` of the height-field walk, filled with
 /// facets whose orientations follow a [`SphereNdf`] `D` (porous, granular or volumetric surfaces;
-/// height fields are the special case `D = 0` below the horizon). A constant majorant
-/// `Dbar >= D` turns it into a homogeneous medium: the majorant's projected area is `pi Dbar`
-/// from every direction, so tentative collisions along a direction `w` come at rate
-/// `pi Dbar / |w.z|` per unit depth, and the normal of the facet met is cosine-distributed about
-/// the direction the light comes from (the visible normals of a uniform NDF). The collision is
-/// real with probability `D(m) / Dbar` and null otherwise (the walker flies on unchanged). Real
+/// height fields are the special case `D = 0` below the horizon). A majorant `Dbar >= D`,
+/// constant on the sphere (or, for height fields, on the upper hemisphere and zero below),
+/// turns it into a homogeneous medium: seen from the direction `v` the light comes from, its
+/// projected area is `sigma_bar(v)` (`majorant_sigma`: `pi Dbar`, or `pi Dbar (1 + v.z) / 2`),
+/// so tentative collisions along `w` come at rate `sigma_bar / |w.z|` per unit depth, and the
+/// normal of the facet met follows the majorant's visible normals about `v` (cosine-distributed,
+/// or the spherical cap of GGX at alpha = 1 for the hemisphere). The collision is real with
+/// probability `D(m) / Dbar` and null otherwise (the walker flies on unchanged). Real
 /// collisions scatter with the facet BSDF exactly as in the height-field walk, including the
 /// crossing to the mirrored surface for transmitting facets.
 ///
 /// Next-event estimation is done at every tentative collision with the facet phase function
-/// averaged over the sub-normalised density `max(0, wi_side . m) D(m) / (pi Dbar)` (its mass is
+/// averaged over the sub-normalised density `max(0, wi_side . m) D(m) / sigma_bar` (its mass is
 /// the probability that the collision is real), so no `sigma(wi)` is needed along the walk. The
 /// escape probability toward `wo` from depth `t` is `exp(-t Lambda(wo))` with
 /// `Lambda(wo) = sigma(-wo) / wo.z`, `sigma` from [`SphereNdf::sigma`] (quadrature), once per
 /// target direction.
 ///
 /// For a height-field NDF the walk reproduces the height-field walk. Its cost grows with
-/// `pi Dbar / sigma`, the number of tentative collisions per real one, so it suits rough or
+/// `sigma_bar / sigma`, the number of tentative collisions per real one, so it suits rough or
 /// porous surfaces (roughness above about 0.4); for smooth height fields prefer
 /// [`Microsurface`](super::Microsurface). Transmitting facets on a full-sphere NDF follow the
 /// height-field walk's model of the mirrored surface below the interface.
@@ -54,7 +56,7 @@ pub struct NullMicrosurface<S, F> {
 
 /// A tentative collision of the null-scattering walk, seen by next-event estimation: normals
 /// with density `max(0, wi_side . m) D(m) / sigma_bar(wi_side)`, drawn from the majorant's
-/// visible normals with weight `D(m) / Dbar` (see [`majorant_sigma`]).
+/// visible normals with weight `D(m) / Dbar` (see `majorant_sigma`).
 #[derive(Debug, Clone, Copy)]
 pub struct NullHit<'a, S> {
     ndf: &'a S,
@@ -81,7 +83,7 @@ impl<'a, S: SphereNdf> NullHit<'a, S> {
 /// (zero below), which suffices for height fields and wastes no tentative collisions on
 /// normals below the horizon.
 #[inline]
-pub fn majorant_sigma(bound: f64, upper: bool, v: Vec3) -> f64 {
+fn majorant_sigma(bound: f64, upper: bool, v: Vec3) -> f64 {
     if upper {
         0.5 * PI * bound * (1.0 + v.z)
     } else {
@@ -89,10 +91,7 @@ pub fn majorant_sigma(bound: f64, upper: bool, v: Vec3) -> f64 {
     }
 }
 
-/// A visible normal of the constant NDF on the upper hemisphere (GGX at alpha = 1) seen from
-/// the unit `v`: Dupuy and Benyoub 2023's spherical cap, with the azimuth of a uniform point of
-/// the unit disk doubled (no trigonometry). Returns `m.z` first and `m` lazily: the walk needs
-/// the whole normal only at real collisions.
+/// A drawn point of the spherical cap of [`Cap::sample`], from which the normal follows.
 #[derive(Debug, Clone, Copy)]
 struct CapSample {
     /// `sqrt(1 - z^2) cos phi`, `sqrt(1 - z^2) sin phi` and `z` of the cap point.
@@ -101,7 +100,10 @@ struct CapSample {
     inv_len: f64,
 }
 
-/// The per-direction quantities of [`CapSample`]: `v`, `|v_xy|` and the unit azimuth of `v`.
+/// Visible normals of the constant NDF on the upper hemisphere (GGX at alpha = 1) seen from
+/// the unit `v`: Dupuy and Benyoub 2023's spherical cap, with the azimuth of a uniform point of
+/// the unit disk doubled (no trigonometry). Holds the per-direction quantities `v`, `|v_xy|`
+/// and the unit azimuth of `v`.
 #[derive(Debug, Clone, Copy)]
 struct Cap {
     v: Vec3,
@@ -122,7 +124,8 @@ impl Cap {
         Self { v, vxy, ex, ey }
     }
 
-    /// One visible normal; `None` in the measure-zero degenerate case `c = -v`.
+    /// One visible normal as `m.z` and the cap point (the walk needs the whole normal, from
+    /// [`Cap::normal`], only at real collisions); `None` in the measure-zero case `c = -v`.
     #[inline]
     fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> Option<(f64, CapSample)> {
         let (x, y, r2) = loop {
