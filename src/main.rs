@@ -34,7 +34,8 @@ enum Command {
     /// Evaluate the single-scattering rough dielectric BSDF (f * |wo.z|) for directions read
     /// as CSV on stdin.
     Eval(cmd::eval::Args),
-    /// Fractions of the incident flux a rough dielectric reflects and transmits, by random walk.
+    /// Fractions of the incident flux a rough surface reflects and transmits, by random walk
+    /// (height-field NDFs, or vmf/porous with --walk null).
     Albedo(cmd::albedo::Args),
     /// Figure-1-style plots (SVG and PNG) of the four model fits of every sample, an overview,
     /// residuals, the fitted NDFs and a markdown table of the fits.

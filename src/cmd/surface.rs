@@ -158,7 +158,9 @@ impl Options {
                 SurfaceNdf::StudentT(b) => {
                     PorousNdf::StudentT(Porous::new(b, p).map_err(option("--porosity"))?)
                 }
-                SurfaceNdf::Vmf(_) | SurfaceNdf::Porous(_) => unreachable!("a height field"),
+                SurfaceNdf::Vmf(_) | SurfaceNdf::Porous(_) => {
+                    return Err(usage("--base must be a height-field NDF"));
+                }
             })
         } else {
             for (set, name) in [
