@@ -34,7 +34,8 @@ enum Command {
     /// Evaluate the single-scattering rough dielectric BSDF (f * |wo.z|) for directions read
     /// as CSV on stdin.
     Eval(cmd::eval::Args),
-    /// Fractions of the incident flux a rough dielectric reflects and transmits, by random walk.
+    /// Fractions of the incident flux a rough surface reflects and transmits, by random walk
+    /// (height-field NDFs, or vmf/porous with --walk null).
     Albedo(cmd::albedo::Args),
     /// Figure-1-style plots (SVG and PNG) of the four model fits of every sample, an overview,
     /// residuals, the fitted NDFs and a markdown table of the fits.
@@ -46,7 +47,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         None => cmd::fit::run(cli.fit),
         Some(Command::Synth(args)) => cmd::synth::run(args),
-        Some(Command::Eval(args)) => cmd::eval::run(&args).map_err(cmd::CmdError::Failed),
+        Some(Command::Eval(args)) => cmd::eval::run(&args),
         Some(Command::Albedo(args)) => cmd::albedo::run(&args),
         Some(Command::Report(args)) => cmd::report::run(args),
     };

@@ -272,3 +272,233 @@ fn eval_scattering_orders_add_up() {
         assert!(multi[k][0] > 0.0);
     }
 }
+
+/// `stfit albedo --json` with exactly `args`.
+fn albedo_json_with(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["albedo", "--json"];
+    all.extend_from_slice(args);
+    let out = stfit(&all);
+    assert!(
+        out.status.success(),
+        "stfit {all:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
+}
+
+#[test]
+fn full_sphere_ndfs_with_lossless_facets_reflect_everything() {
+    // Furnace: non-absorbing facets in the half-space reflect all the flux; nothing can leave
+    // below an unbounded half-space.
+    let cases: &[&[&str]] = &[
+        &["--ndf", "vmf", "--kappa", "4", "--facet", "conductor"],
+        &[
+            "--ndf",
+            "porous",
+            "--base",
+            "ggx",
+            "--alpha",
+            "0.6",
+            "--porosity",
+            "0.4",
+            "--facet",
+            "lambertian",
+            "--reflectance",
+            "1",
+        ],
+        &[
+            "--ndf",
+            "porous",
+            "--base",
+            "student-t",
+            "--alpha",
+            "0.5",
+            "--gamma",
+            "3",
+            "--porosity",
+            "0.5",
+            "--facet",
+            "conductor",
+        ],
+    ];
+    for case in cases {
+        let mut args = vec!["--walk", "null", "--theta-i", "50", "--samples", "20000"];
+        args.extend_from_slice(case);
+        let v = albedo_json_with(&args);
+        let (r, se) = (num(&v, "reflectance"), num(&v, "reflectance_stderr"));
+        assert!(
+            (r + num(&v, "truncated") - 1.0).abs() <= 4.0 * se + 1e-12,
+            "{case:?}: {v}"
+        );
+        assert_eq!(num(&v, "transmittance"), 0.0, "{case:?}");
+        assert!(num(&v, "mean_bounces") > 1.0, "{case:?}: {v}");
+    }
+    // An absorbing facet loses flux.
+    let v = albedo_json_with(&[
+        "--walk",
+        "null",
+        "--theta-i",
+        "50",
+        "--samples",
+        "20000",
+        "--ndf",
+        "vmf",
+        "--kappa",
+        "4",
+        "--facet",
+        "lambertian",
+        "--reflectance",
+        "0.5",
+    ]);
+    let r = num(&v, "reflectance");
+    assert!(r > 0.2 && r < 0.5, "{v}");
+}
+
+#[test]
+fn porous_without_pores_is_the_height_field() {
+    // Porosity 0 on the null walk against the height-field walk, conductor facets.
+    let common = [
+        "--alpha",
+        "0.6",
+        "--facet",
+        "conductor",
+        "--n",
+        "1.5",
+        "--k",
+        "3",
+        "--theta-i",
+        "60",
+        "--samples",
+        "40000",
+    ];
+    let mut null = vec![
+        "--walk",
+        "null",
+        "--ndf",
+        "porous",
+        "--base",
+        "ggx",
+        "--porosity",
+        "0",
+    ];
+    null.extend_from_slice(&common);
+    let mut hf = vec!["--walk", "heightfield", "--ndf", "ggx", "--seed", "2"];
+    hf.extend_from_slice(&common);
+    let (a, b) = (albedo_json_with(&null), albedo_json_with(&hf));
+    let se = num(&a, "reflectance_stderr").hypot(num(&b, "reflectance_stderr"));
+    let diff = num(&a, "reflectance") - num(&b, "reflectance");
+    assert!(se > 0.0 && diff.abs() <= 4.0 * se, "{a} vs {b}");
+}
+
+#[test]
+fn bad_full_sphere_arguments_are_usage_errors() {
+    let vmf = [
+        "--ndf",
+        "vmf",
+        "--kappa",
+        "4",
+        "--facet",
+        "conductor",
+        "--walk",
+        "null",
+    ];
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["--ndf", "vmf", "--facet", "conductor", "--walk", "null"],
+            "kappa",
+        ),
+        (&["--kappa", "0"], "kappa"),
+        (&["--kappa", "nan"], "kappa"),
+        (&["--walk", "heightfield"], "walk null"),
+        (&["--facet", "dielectric"], "dielectric"),
+        (&["--alpha", "0.5"], "alpha"),
+        (&["--eta", "1.5"], "eta"),
+        (&["--n", "1.5"], "--k"),
+        (&["--reflectance", "0.5"], "reflectance"),
+        (
+            &["--ndf", "porous", "--alpha", "0.5", "--porosity", "0.2"],
+            "base",
+        ),
+        (
+            &["--ndf", "porous", "--base", "ggx", "--porosity", "0.2"],
+            "alpha",
+        ),
+        (
+            &["--ndf", "porous", "--base", "ggx", "--alpha", "0.5"],
+            "porosity",
+        ),
+        (
+            &[
+                "--ndf",
+                "porous",
+                "--base",
+                "ggx",
+                "--alpha",
+                "0.5",
+                "--porosity",
+                "1.5",
+            ],
+            "porosity",
+        ),
+        (
+            &[
+                "--ndf",
+                "porous",
+                "--base",
+                "ggx",
+                "--alpha",
+                "0.5",
+                "--porosity",
+                "0.2",
+                "--kappa",
+                "3",
+            ],
+            "kappa",
+        ),
+        (
+            &[
+                "--ndf",
+                "porous",
+                "--base",
+                "student-t",
+                "--alpha",
+                "0.5",
+                "--porosity",
+                "0.2",
+            ],
+            "gamma",
+        ),
+        (&["--facet", "lambertian"], "reflectance"),
+        (
+            &["--facet", "lambertian", "--reflectance", "1.5"],
+            "reflectance",
+        ),
+        (&["--facet", "conductor", "--n", "-1", "--k", "0"], "n"),
+        (&["--ndf", "ggx", "--alpha", "0.5", "--base", "ggx"], "base"),
+        (
+            &["--ndf", "ggx", "--porosity", "0.3", "--alpha", "0.5"],
+            "porosity",
+        ),
+    ];
+    for (over, word) in cases {
+        // The valid vMF arguments, with the options named in `over` replaced.
+        let mut args = vec!["albedo", "--theta-i", "30", "--samples", "100"];
+        let mut k = 0;
+        while k < vmf.len() {
+            // A new --ndf drops the vMF's --kappa too.
+            let replaced =
+                over.contains(&vmf[k]) || (over.contains(&"--ndf") && vmf[k] == "--kappa");
+            if !replaced {
+                args.extend_from_slice(&vmf[k..k + 2]);
+            }
+            k += 2;
+        }
+        args.extend_from_slice(over);
+        let out = stfit(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(word), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert!(out.stdout.is_empty(), "{args:?}");
+    }
+}

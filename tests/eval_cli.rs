@@ -268,3 +268,214 @@ fn invalid_parameters_are_rejected() {
         );
     }
 }
+
+/// The appended columns (f_cos, f_cos_stderr) of each row of a successful walk run.
+fn walk_rows(args: &[&str], input: &str) -> Vec<(f64, f64)> {
+    let out = run(args, input);
+    assert_eq!(out.code, Some(0), "{args:?}: {}", out.stderr);
+    let mut lines = out.stdout.lines();
+    assert_eq!(
+        lines.next(),
+        Some(format!("{HEADER},f_cos,f_cos_stderr").as_str())
+    );
+    lines
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').skip(6).map(|x| x.parse().unwrap()).collect();
+            (v[0], v[1])
+        })
+        .collect()
+}
+
+/// `f(a, b) = f(b, a)` for reflection by the null walk on full-sphere NDFs: rows `(a, b)` and
+/// `(b, a)` give `f_cos / |wo.z|` equal within 4 standard errors.
+#[test]
+fn full_sphere_walks_are_reciprocal() {
+    let a = Vec3::new(-0.5, 0.1, 0.8).normalize();
+    let b = Vec3::new(0.7, -0.3, 0.4).normalize();
+    let row = |x: Vec3, y: Vec3| format!("{},{},{},{},{},{}\n", x.x, x.y, x.z, y.x, y.y, y.z);
+    let input = format!("{HEADER}\n{}{}", row(a, b), row(b, a));
+    let cases: &[&[&str]] = &[
+        &["--ndf", "vmf", "--kappa", "3", "--facet", "conductor"],
+        &[
+            "--ndf",
+            "porous",
+            "--base",
+            "beckmann",
+            "--alpha",
+            "0.5",
+            "--porosity",
+            "0.3",
+            "--facet",
+            "lambertian",
+            "--reflectance",
+            "0.9",
+        ],
+        &[
+            "--ndf",
+            "vmf",
+            "--kappa",
+            "8",
+            "--facet",
+            "conductor",
+            "--n",
+            "1.2",
+            "--k",
+            "2.5",
+            "--scattering",
+            "multiple",
+        ],
+    ];
+    for case in cases {
+        let mut args = vec!["--walk", "null", "--samples", "30000"];
+        args.extend_from_slice(case);
+        let rows = walk_rows(&args, &input);
+        let (fab, sab) = (rows[0].0 / b.z, rows[0].1 / b.z);
+        let (fba, sba) = (rows[1].0 / a.z, rows[1].1 / a.z);
+        assert!(fab > 0.0 && fba > 0.0, "{case:?}: {rows:?}");
+        assert!(
+            (fab - fba).abs() <= 4.0 * sab.hypot(sba),
+            "{case:?}: f(a,b) {fab} +- {sab}, f(b,a) {fba} +- {sba}"
+        );
+    }
+}
+
+/// The null walk on a height field reproduces the height-field walk, conductor facets.
+#[test]
+fn null_walk_matches_the_height_field_walk_in_eval() {
+    let a = Vec3::new(-0.6, 0.0, 0.8);
+    let b = Vec3::new(0.3, 0.4, 0.5f64.sqrt()).normalize();
+    let input = format!(
+        "{HEADER}\n{},{},{},{},{},{}\n",
+        a.x, a.y, a.z, b.x, b.y, b.z
+    );
+    let common = [
+        "--ndf",
+        "ggx",
+        "--alpha",
+        "0.7",
+        "--facet",
+        "conductor",
+        "--scattering",
+        "all",
+        "--samples",
+        "40000",
+    ];
+    let mut null = vec!["--walk", "null"];
+    null.extend_from_slice(&common);
+    let mut hf = vec!["--walk", "heightfield", "--seed", "5"];
+    hf.extend_from_slice(&common);
+    let (x, y) = (walk_rows(&null, &input)[0], walk_rows(&hf, &input)[0]);
+    assert!((x.0 - y.0).abs() <= 4.0 * x.1.hypot(y.1), "{x:?} vs {y:?}");
+}
+
+/// Bad options of the walk are usage errors (exit code 2) that name the option.
+#[test]
+fn bad_walk_options_are_usage_errors() {
+    let input = format!("{HEADER}\n0,0,1,0,0,1\n");
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["--ndf", "vmf", "--kappa", "3", "--facet", "conductor"],
+            "walk null",
+        ),
+        (
+            &["--ndf", "vmf", "--kappa", "3", "--walk", "null"],
+            "dielectric",
+        ),
+        (
+            &["--ndf", "vmf", "--walk", "null", "--facet", "conductor"],
+            "kappa",
+        ),
+        (
+            &[
+                "--ndf",
+                "vmf",
+                "--kappa",
+                "-1",
+                "--walk",
+                "null",
+                "--facet",
+                "conductor",
+            ],
+            "kappa",
+        ),
+        (
+            &[
+                "--ndf",
+                "porous",
+                "--base",
+                "ggx",
+                "--alpha",
+                "0.4",
+                "--walk",
+                "null",
+                "--facet",
+                "conductor",
+            ],
+            "porosity",
+        ),
+        (
+            &[
+                "--ndf",
+                "porous",
+                "--alpha",
+                "0.4",
+                "--porosity",
+                "0.2",
+                "--walk",
+                "null",
+                "--facet",
+                "conductor",
+            ],
+            "base",
+        ),
+        (
+            &[
+                "--ndf",
+                "ggx",
+                "--alpha",
+                "0.4",
+                "--facet",
+                "lambertian",
+                "--scattering",
+                "all",
+            ],
+            "reflectance",
+        ),
+        (
+            &[
+                "--ndf",
+                "ggx",
+                "--alpha",
+                "0.4",
+                "--facet",
+                "conductor",
+                "--eta",
+                "1.5",
+                "--walk",
+                "null",
+            ],
+            "eta",
+        ),
+        (
+            &[
+                "--ndf",
+                "vmf",
+                "--kappa",
+                "3",
+                "--walk",
+                "null",
+                "--facet",
+                "conductor",
+                "--samples",
+                "0",
+            ],
+            "samples",
+        ),
+    ];
+    for (args, word) in cases {
+        let out = run(args, &input);
+        assert_eq!(out.code, Some(2), "{args:?}: {}", out.stderr);
+        assert!(out.stderr.contains(word), "{args:?}: {}", out.stderr);
+        assert!(out.stdout.is_empty(), "{args:?}");
+    }
+}

@@ -1,24 +1,42 @@
-//! `stfit albedo`: fractions of the incident flux that a rough dielectric reflects and transmits,
-//! by the height-field random walk.
+//! `stfit albedo`: fractions of the incident flux that a rough surface reflects and transmits,
+//! by the height-field or the null-scattering random walk.
 
+use super::surface::{self, BaseKind, Estimators, FacetKind, Walk};
 use super::{CmdError, CmdResult, print_stdout};
 use clap::ValueEnum;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use stfit_core::Vec3;
 use stfit_core::math::radians;
-use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
-use stfit_core::sphere::SphereNdf;
-use stfit_core::walk::{
-    AlbedoEstimate, DielectricFacet, Microsurface, NullMicrosurface, ScatteringOrders,
-};
+use stfit_core::walk::{AlbedoEstimate, ScatteringOrders};
 
 /// The NDF family.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum NdfKind {
+    /// Beckmann height field (--alpha).
     Beckmann,
+    /// GGX height field (--alpha).
     Ggx,
+    /// Student-T height field (--alpha, --gamma).
     StudentT,
+    /// von Mises-Fisher on the whole sphere (--kappa; needs --walk null and a conductor or
+    /// Lambertian facet).
+    Vmf,
+    /// A height field (--base, --alpha, [--gamma]) blended with uniformly oriented facets
+    /// (--porosity); needs --walk null and a conductor or Lambertian facet.
+    Porous,
+}
+
+impl NdfKind {
+    /// The height-field family, if this is one.
+    pub fn family(self) -> Option<BaseKind> {
+        match self {
+            Self::Beckmann => Some(BaseKind::Beckmann),
+            Self::Ggx => Some(BaseKind::Ggx),
+            Self::StudentT => Some(BaseKind::StudentT),
+            Self::Vmf | Self::Porous => None,
+        }
+    }
 }
 
 /// Scattering orders to count.
@@ -42,31 +60,43 @@ impl From<Scattering> for ScatteringOrders {
     }
 }
 
-/// The random walk.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Walk {
-    /// The height-field walk of Heitz et al. 2016.
-    Heightfield,
-    /// The null-scattering walk of d'Eon 2023 (same results; slower at low roughness; Student-T
-    /// needs gamma >= 2).
-    Null,
-}
-
 /// Arguments of `stfit albedo`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// NDF family.
     #[arg(long, value_enum)]
     pub ndf: NdfKind,
-    /// Roughness alpha (> 0).
+    /// Roughness alpha (> 0) of a height-field NDF or of the base of --ndf porous.
     #[arg(long, allow_negative_numbers = true)]
-    pub alpha: f64,
+    pub alpha: Option<f64>,
     /// Student-T shape gamma (> 3/2); required for student-t, rejected otherwise.
     #[arg(long, allow_negative_numbers = true)]
     pub gamma: Option<f64>,
-    /// Relative index n_inside / n_outside (> 0, != 1).
+    /// Concentration kappa (> 0) of --ndf vmf.
     #[arg(long, allow_negative_numbers = true)]
-    pub eta: f64,
+    pub kappa: Option<f64>,
+    /// Height-field base of --ndf porous.
+    #[arg(long, value_enum)]
+    pub base: Option<BaseKind>,
+    /// Fraction of the facet area of --ndf porous that is uniformly oriented, in [0, 1].
+    #[arg(long, allow_negative_numbers = true)]
+    pub porosity: Option<f64>,
+    /// Facet material: dielectric (height-field NDFs; --eta), conductor (--n and --k, or a
+    /// perfect mirror without them) or lambertian (--reflectance).
+    #[arg(long, value_enum, default_value_t)]
+    pub facet: FacetKind,
+    /// Relative index n_inside / n_outside (> 0, != 1) of dielectric facets.
+    #[arg(long, allow_negative_numbers = true)]
+    pub eta: Option<f64>,
+    /// Real part of the conductor's relative index (with --k).
+    #[arg(long, allow_negative_numbers = true)]
+    pub n: Option<f64>,
+    /// Imaginary part of the conductor's relative index (with --n).
+    #[arg(long, allow_negative_numbers = true)]
+    pub k: Option<f64>,
+    /// Albedo of Lambertian facets, in [0, 1].
+    #[arg(long, allow_negative_numbers = true)]
+    pub reflectance: Option<f64>,
     /// Incidence angle in degrees from the outward normal, in [0, 180] except 90; above 90 the
     /// light comes from inside.
     #[arg(long = "theta-i", allow_negative_numbers = true)]
@@ -74,8 +104,10 @@ pub struct Args {
     /// Scattering orders to count.
     #[arg(long, value_enum, default_value_t = Scattering::All)]
     pub scattering: Scattering,
-    /// The random walk.
-    #[arg(long, value_enum, default_value_t = Walk::Heightfield)]
+    /// The random walk: heightfield (Heitz et al. 2016; height-field NDFs) or null (d'Eon 2023;
+    /// any bounded NDF, same results on height fields, slower at low roughness; Student-T needs
+    /// gamma >= 2).
+    #[arg(long, value_enum, default_value_t)]
     pub walk: Walk,
     /// Number of walks.
     #[arg(long, default_value_t = 1_000_000)]
@@ -100,38 +132,38 @@ pub fn run(args: &Args) -> CmdResult {
     if args.samples == 0 {
         return Err(usage("--samples must be at least 1".into()));
     }
-    let param = |e: stfit_core::ParamError| usage(e.to_string());
     let t = radians(theta);
     let wi = Vec3::new(-t.sin(), 0.0, t.cos());
-    let facet = DielectricFacet::new(args.eta).map_err(param)?;
-    let result = match (args.ndf, args.gamma) {
-        (NdfKind::Beckmann, None) => {
-            estimate(Beckmann::new(args.alpha).map_err(param)?, facet, wi, args)
-        }
-        (NdfKind::Ggx, None) => estimate(Ggx::new(args.alpha).map_err(param)?, facet, wi, args),
-        (NdfKind::StudentT, Some(g)) => estimate(
-            StudentT::new(args.alpha, g).map_err(param)?,
-            facet,
-            wi,
-            args,
-        ),
-        (NdfKind::StudentT, None) => {
-            return Err(usage("--gamma is required for student-t".into()));
-        }
-        (_, Some(_)) => return Err(usage("--gamma applies only to student-t".into())),
-    }
-    .map_err(param)?;
+    let (ndf, facet) = args.surface().check()?;
+    let walk = surface::walker(ndf, facet, args.walk, args.scattering.into())?;
+    let result = estimate(walk.as_ref(), wi, args);
     print_stdout(&format_result(args, &result))
 }
 
+impl Args {
+    /// The surface options, unchecked.
+    fn surface(&self) -> surface::Options {
+        surface::Options {
+            family: self.ndf.family(),
+            vmf: self.ndf == NdfKind::Vmf,
+            porous: self.ndf == NdfKind::Porous,
+            alpha: self.alpha,
+            gamma: self.gamma,
+            kappa: self.kappa,
+            base: self.base,
+            porosity: self.porosity,
+            facet: self.facet,
+            eta: self.eta,
+            n: self.n,
+            k: self.k,
+            reflectance: self.reflectance,
+            walk: self.walk,
+        }
+    }
+}
+
 /// Runs the walks, with a progress bar when both output streams are terminals.
-fn estimate<N: Ndf + SphereNdf>(
-    ndf: N,
-    facet: DielectricFacet,
-    wi: Vec3,
-    args: &Args,
-) -> Result<AlbedoEstimate, stfit_core::ParamError> {
-    let orders = ScatteringOrders::from(args.scattering);
+fn estimate(walk: &dyn Estimators, wi: Vec3, args: &Args) -> AlbedoEstimate {
     let show = !args.json
         && std::io::stdout().is_terminal()
         && std::io::stderr().is_terminal()
@@ -148,19 +180,11 @@ fn estimate<N: Ndf + SphereNdf>(
             bar.inc(n);
         }
     };
-    let (n, seed) = (args.samples, args.seed);
-    let result = match args.walk {
-        Walk::Heightfield => Microsurface::new(ndf, facet)
-            .with_orders(orders)
-            .albedo_with_progress(wi, n, seed, &progress),
-        Walk::Null => NullMicrosurface::new(ndf, facet)?
-            .with_orders(orders)
-            .albedo_with_progress(wi, n, seed, &progress),
-    };
+    let result = walk.albedo_with_progress(wi, args.samples, args.seed, &progress);
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    Ok(result)
+    result
 }
 
 /// The report: one JSON object with `--json`, else a few aligned lines.

@@ -7,15 +7,18 @@
 //! with a column `f_cos = f(wi, wo) |wo.z|` appended: reflection or transmission by the sides
 //! of `wi` and `wo`, no radiance `1/eta^2` scaling. With `--scattering multiple|all` the value
 //! is a random-walk estimate (rows sharing a `wi` share one set of walks) and a column
-//! `f_cos_stderr` follows.
+//! `f_cos_stderr` follows. `--walk null` uses the null-scattering walk instead, which also
+//! takes the full-sphere NDFs `--ndf vmf` and `--ndf porous` with conductor or Lambertian
+//! facets (`--facet`); every order is then a walk estimate.
 
 use std::io::{BufWriter, Read, Write};
 
+use super::surface::{self, BaseKind, Estimators, FacetKind, Walk};
+use super::{CmdError, CmdResult};
 use clap::ValueEnum;
 use stfit_core::Vec3;
 use stfit_core::bsdf::{Masking, RoughDielectric};
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, StudentT};
-use stfit_core::walk::{DielectricFacet, Microsurface};
 
 /// The direction columns the input must have, in the order `(wi, wo)`.
 const COLUMNS: [&str; 6] = ["wi_x", "wi_y", "wi_z", "wo_x", "wo_y", "wo_z"];
@@ -36,6 +39,12 @@ pub enum NdfName {
     Ggx,
     #[value(name = "student-t")]
     StudentT,
+    /// von Mises-Fisher on the whole sphere (--kappa; needs --walk null and --facet conductor
+    /// or lambertian).
+    Vmf,
+    /// A height field (--base, --alpha, [--gamma]) blended with uniformly oriented facets
+    /// (--porosity); needs --walk null and --facet conductor or lambertian.
+    Porous,
 }
 
 /// A Smith masking model by name.
@@ -63,21 +72,51 @@ pub struct Args {
     /// Microfacet normal distribution.
     #[arg(long, value_enum)]
     pub ndf: NdfName,
-    /// Roughness alpha (> 0).
+    /// Roughness alpha (> 0) of a height-field NDF or of the base of --ndf porous.
     #[arg(long, allow_negative_numbers = true)]
-    pub alpha: f64,
-    /// Student-T shape gamma (> 3/2); required with, and only allowed with, --ndf student-t.
+    pub alpha: Option<f64>,
+    /// Student-T shape gamma (> 3/2); required with, and only allowed with, --ndf student-t
+    /// (or --base student-t).
     #[arg(long, allow_negative_numbers = true)]
     pub gamma: Option<f64>,
-    /// Relative index of refraction n_inside / n_outside (> 0, != 1).
+    /// Concentration kappa (> 0) of --ndf vmf.
     #[arg(long, allow_negative_numbers = true)]
-    pub eta: f64,
+    pub kappa: Option<f64>,
+    /// Height-field base of --ndf porous.
+    #[arg(long, value_enum)]
+    pub base: Option<BaseKind>,
+    /// Fraction of the facet area of --ndf porous that is uniformly oriented, in [0, 1].
+    #[arg(long, allow_negative_numbers = true)]
+    pub porosity: Option<f64>,
+    /// Facet material of the walk: dielectric (--eta), conductor (--n and --k, or a perfect
+    /// mirror without them) or lambertian (--reflectance). Only dielectric has a closed-form
+    /// single-scattering BSDF.
+    #[arg(long, value_enum, default_value_t)]
+    pub facet: FacetKind,
+    /// Relative index of refraction n_inside / n_outside (> 0, != 1) of dielectric facets.
+    #[arg(long, allow_negative_numbers = true)]
+    pub eta: Option<f64>,
+    /// Real part of the conductor's relative index (with --k).
+    #[arg(long, allow_negative_numbers = true)]
+    pub n: Option<f64>,
+    /// Imaginary part of the conductor's relative index (with --n).
+    #[arg(long, allow_negative_numbers = true)]
+    pub k: Option<f64>,
+    /// Albedo of Lambertian facets, in [0, 1].
+    #[arg(long, allow_negative_numbers = true)]
+    pub reflectance: Option<f64>,
+    /// The random walk: heightfield (Heitz et al. 2016; height-field NDFs) or null (d'Eon 2023;
+    /// any bounded NDF). With --walk null or a non-dielectric facet every order, single too,
+    /// is a walk estimate.
+    #[arg(long, value_enum, default_value_t)]
+    pub walk: Walk,
     /// Masking-shadowing model (single scattering only; the random walk's masking is height
     /// correlated by construction).
     #[arg(long, value_enum, default_value_t)]
     pub masking: MaskingName,
-    /// Scattering orders: `single` is the analytic BSDF above; `multiple` (order >= 2) and
-    /// `all` are estimated by the height-field random walk, with a column `f_cos_stderr`.
+    /// Scattering orders: `single` is the analytic BSDF above (height-field walk, dielectric
+    /// facets); `multiple` (order >= 2) and `all` are estimated by the random walk, with a
+    /// column `f_cos_stderr`.
     #[arg(long, value_enum, default_value_t = super::albedo::Scattering::Single)]
     pub scattering: super::albedo::Scattering,
     /// Random walks per distinct `wi` (multiple and all).
@@ -91,11 +130,15 @@ pub struct Args {
 impl Args {
     /// The NDF these arguments describe, or an error naming the bad parameter.
     pub fn ndf(&self) -> Result<AnyNdf, String> {
+        let alpha = self.alpha.ok_or("--alpha is required for this --ndf")?;
         let ndf: AnyNdf = match (self.ndf, self.gamma) {
+            (NdfName::Vmf | NdfName::Porous, _) => {
+                return Err("--ndf vmf and --ndf porous need --walk null".into());
+            }
             (NdfName::StudentT, None) => {
                 return Err("--ndf student-t requires --gamma".into());
             }
-            (NdfName::StudentT, Some(gamma)) => StudentT::new(self.alpha, gamma)
+            (NdfName::StudentT, Some(gamma)) => StudentT::new(alpha, gamma)
                 .map_err(|e| format!("invalid Student-T parameters: {e}"))?
                 .into(),
             (ndf, Some(_)) => {
@@ -105,10 +148,10 @@ impl Args {
                     name.get_name()
                 ));
             }
-            (NdfName::Beckmann, None) => Beckmann::new(self.alpha)
+            (NdfName::Beckmann, None) => Beckmann::new(alpha)
                 .map_err(|e| format!("invalid NDF parameters: {e}"))?
                 .into(),
-            (NdfName::Ggx, None) => Ggx::new(self.alpha)
+            (NdfName::Ggx, None) => Ggx::new(alpha)
                 .map_err(|e| format!("invalid NDF parameters: {e}"))?
                 .into(),
         };
@@ -117,38 +160,82 @@ impl Args {
 
     /// The rough dielectric these arguments describe.
     pub fn bsdf(&self) -> Result<RoughDielectric<AnyNdf>, String> {
-        RoughDielectric::new(self.ndf()?, self.eta, self.masking.into())
+        let eta = self.eta.ok_or("--eta is required for --facet dielectric")?;
+        RoughDielectric::new(self.ndf()?, eta, self.masking.into())
             .map_err(|e| format!("invalid --eta: {e}"))
     }
 }
 
-/// Runs `stfit eval`: CSV from stdin to stdout.
-pub fn run(args: &Args) -> Result<(), String> {
+impl Args {
+    /// The surface options of the walk, unchecked.
+    fn surface(&self) -> surface::Options {
+        let family = match self.ndf {
+            NdfName::Beckmann => Some(BaseKind::Beckmann),
+            NdfName::Ggx => Some(BaseKind::Ggx),
+            NdfName::StudentT => Some(BaseKind::StudentT),
+            NdfName::Vmf | NdfName::Porous => None,
+        };
+        surface::Options {
+            family,
+            vmf: self.ndf == NdfName::Vmf,
+            porous: self.ndf == NdfName::Porous,
+            alpha: self.alpha,
+            gamma: self.gamma,
+            kappa: self.kappa,
+            base: self.base,
+            porosity: self.porosity,
+            facet: self.facet,
+            eta: self.eta,
+            n: self.n,
+            k: self.k,
+            reflectance: self.reflectance,
+            walk: self.walk,
+        }
+    }
+}
+
+/// Runs `stfit eval`: CSV from stdin to stdout. Bad parameters of the closed-form BSDF and bad
+/// input are failures (exit status 1); bad options of the random walk are usage errors (2).
+pub fn run(args: &Args) -> CmdResult {
     let stdout = std::io::stdout().lock();
-    if args.scattering == super::albedo::Scattering::Single {
-        let bsdf = args.bsdf()?;
-        return eval_csv(&bsdf, std::io::stdin().lock(), BufWriter::new(stdout));
+    let analytic = args.scattering == super::albedo::Scattering::Single
+        && args.walk == Walk::Heightfield
+        && args.facet == FacetKind::Dielectric
+        && !matches!(args.ndf, NdfName::Vmf | NdfName::Porous);
+    if analytic {
+        for (missing, name) in [
+            (args.alpha.is_none(), "--alpha"),
+            (args.eta.is_none(), "--eta"),
+        ] {
+            if missing {
+                return Err(CmdError::Usage(format!("{name} is required")));
+            }
+        }
+        let bsdf = args.bsdf().map_err(CmdError::Failed)?;
+        return eval_csv(&bsdf, std::io::stdin().lock(), BufWriter::new(stdout))
+            .map_err(CmdError::Failed);
     }
     if args.samples == 0 {
-        return Err("--samples must be at least 1".into());
+        return Err(CmdError::Usage("--samples must be at least 1".into()));
     }
-    let facet = DielectricFacet::new(args.eta).map_err(|e| format!("invalid --eta: {e}"))?;
-    let walk = Microsurface::new(args.ndf()?, facet).with_orders(args.scattering.into());
+    let (ndf, facet) = args.surface().check()?;
+    let walk = surface::walker(ndf, facet, args.walk, args.scattering.into())?;
     let input = std::io::stdin().lock();
     eval_walk_csv(
-        &walk,
+        walk.as_ref(),
         args.samples,
         args.seed,
         input,
         BufWriter::new(stdout),
     )
+    .map_err(CmdError::Failed)
 }
 
 /// As [`eval_csv`] for the random walk: reads every row, estimates `f_cos` for all rows that
 /// share a `wi` from one set of `samples` walks (seeded by `seed` and the first line of the
 /// group), and appends `f_cos` and `f_cos_stderr`.
 pub fn eval_walk_csv<R: Read, W: Write>(
-    walk: &Microsurface<AnyNdf, DielectricFacet>,
+    walk: &dyn Estimators,
     samples: u64,
     seed: u64,
     input: R,

@@ -13,6 +13,7 @@ pub mod albedo;
 pub mod eval;
 pub mod fit;
 pub mod report;
+pub mod surface;
 pub mod synth;
 
 /// Why a command failed. The binary prints `error: <message>` and exits with [`exit_code`].

@@ -1,6 +1,7 @@
 //! Speed of the height-field random walk: `sample` and `eval` of a rough dielectric
 //! microsurface per NDF (light from air at 60 degrees, alpha 0.45, gamma 3, eta 1.51, one
-//! thread), and the 1 -> 2 thread speed-up of batch evaluation.
+//! thread), the 1 -> 2 thread speed-up of batch evaluation, and walks per second of the
+//! null-scattering walk against the height-field walk per roughness (`walk_null_vs_hf`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use rand::SeedableRng;
@@ -91,5 +92,30 @@ fn batch(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, per_ndf, batch);
+/// Walks per second of the null-scattering walk against the height-field walk on the same
+/// surface (dielectric facets, eta 1.51, light from air at 60 degrees): one `sample_walk` each.
+fn null_vs_hf_at<N: Ndf + SphereNdf>(c: &mut Criterion, name: &str, ndf: N) {
+    let facet = DielectricFacet::new(1.51).unwrap();
+    let hf = Microsurface::new(ndf.clone(), facet);
+    let null = NullMicrosurface::new(ndf, facet).unwrap();
+    let wi = wi();
+    let mut group = c.benchmark_group(format!("walk_null_vs_hf/{name}"));
+    let mut rng = Pcg64::seed_from_u64(1);
+    group.bench_function("null", |b| {
+        b.iter(|| black_box(null.sample_walk(black_box(wi), &mut rng)))
+    });
+    group.bench_function("heightfield", |b| {
+        b.iter(|| black_box(hf.sample_walk(black_box(wi), &mut rng)))
+    });
+    group.finish();
+}
+
+fn null_vs_hf(c: &mut Criterion) {
+    for alpha in [0.2, 0.4, 0.8, 1.5] {
+        null_vs_hf_at(c, &format!("alpha_{alpha}"), Ggx::new(alpha).unwrap());
+    }
+    null_vs_hf_at(c, "beckmann_alpha_0.4", Beckmann::new(0.4).unwrap());
+}
+
+criterion_group!(benches, per_ndf, batch, null_vs_hf);
 criterion_main!(benches);

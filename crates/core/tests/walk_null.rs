@@ -227,3 +227,246 @@ fn unbounded_ndfs_are_rejected() {
     let st = StudentT::new(0.5, 3.0).unwrap();
     assert!(NullMicrosurface::new(st, ConductorFacet::mirror()).is_ok());
 }
+
+/// Reciprocity of the null walk's `eval`: `f(a, b) / n_b^2 = f(b, a) / n_a^2` (the index is
+/// `eta` below the surface, 1 above; `eval = f |wo.z|`) within 4 standard errors, for the
+/// direction pairs on `a`'s side (and across, for transmitting facets). Pairs whose estimate
+/// rests on a handful of walks (relative error above 10%) are skipped, as in `walk_single.rs`.
+fn assert_reciprocal<S: SphereNdf + std::fmt::Debug, F: Facet + std::fmt::Debug>(
+    ms: &NullMicrosurface<S, F>,
+    eta: f64,
+    dirs: &[Vec3],
+    walks: u64,
+) {
+    let index = |w: Vec3| if w.z < 0.0 { eta } else { 1.0 };
+    let est: Vec<_> = dirs
+        .iter()
+        .enumerate()
+        .map(|(i, &a)| ms.eval_many(a, dirs, walks, 31 + i as u64))
+        .collect();
+    let (mut compared, mut total) = (0, 0);
+    for i in 0..dirs.len() {
+        for j in i + 1..dirs.len() {
+            let (a, b) = (dirs[i], dirs[j]);
+            let (ab, ba) = (est[i][j], est[j][i]);
+            if ab.mean == 0.0 && ba.mean == 0.0 {
+                continue;
+            }
+            total += 1;
+            let resolved = |e: &stfit_core::walk::Estimate| e.stderr <= 0.1 * e.mean;
+            if !(resolved(&ab) && resolved(&ba)) {
+                continue;
+            }
+            compared += 1;
+            let sa = 1.0 / (b.z.abs() * index(b).powi(2));
+            let sb = 1.0 / (a.z.abs() * index(a).powi(2));
+            let (x, y) = (ab.mean * sa, ba.mean * sb);
+            let se = (ab.stderr * sa).hypot(ba.stderr * sb);
+            assert!(
+                (x - y).abs() <= 4.0 * se + 1e-12 * x.abs(),
+                "{ms:?}: {a:?} <-> {b:?}: {x} vs {y} (se {se})"
+            );
+        }
+    }
+    assert!(
+        total > 0 && compared * 10 >= total * 6,
+        "{ms:?}: only {compared} of {total} nonzero pairs compared"
+    );
+}
+
+/// A few directions in general position (not in one plane), both hemispheres.
+fn reciprocity_directions() -> Vec<Vec3> {
+    [
+        (0.4, 0.3),
+        (1.0, 2.0),
+        (1.3, -1.2),
+        (PI - 0.5, 0.8),
+        (PI - 1.1, -2.5),
+    ]
+    .iter()
+    .map(|&(t, p)| spherical_direction(t, p))
+    .collect()
+}
+
+#[test]
+fn null_walk_eval_is_reciprocal() {
+    let dirs = reciprocity_directions();
+    let up: Vec<Vec3> = dirs.iter().copied().filter(|w| w.z > 0.0).collect();
+    let vmf = VonMisesFisher::new(3.0).unwrap();
+    let porous = Porous::new(Beckmann::new(0.5).unwrap(), 0.3).unwrap();
+    let conductor = ConductorFacet::fresnel(1.3, 2.2).unwrap();
+    let lambert = LambertianFacet::new(0.8).unwrap();
+    assert_reciprocal(
+        &NullMicrosurface::new(vmf, conductor).unwrap(),
+        1.0,
+        &up,
+        20_000,
+    );
+    assert_reciprocal(
+        &NullMicrosurface::new(vmf, lambert).unwrap(),
+        1.0,
+        &up,
+        20_000,
+    );
+    assert_reciprocal(
+        &NullMicrosurface::new(porous, conductor).unwrap(),
+        1.0,
+        &up,
+        20_000,
+    );
+    assert_reciprocal(
+        &NullMicrosurface::new(porous, lambert).unwrap(),
+        1.0,
+        &up,
+        20_000,
+    );
+    // Light and view on both sides of a rough dielectric: transmission carries eta^2.
+    for eta in [1.51, 1.0 / 1.51] {
+        let ms = NullMicrosurface::new(Ggx::new(0.6).unwrap(), DielectricFacet::new(eta).unwrap())
+            .unwrap();
+        assert_reciprocal(&ms, eta, &dirs, 30_000);
+    }
+}
+
+/// Bins in `cos theta` over [-1, 1] and in `|phi|` over [0, pi] (the light is in the x-z plane).
+const NZ: usize = 16;
+const NP: usize = 8;
+/// Gauss-Legendre nodes and weights on [-1, 1], three points.
+const GL: [(f64, f64); 3] = [
+    (-0.774_596_669_241_483_4, 5.0 / 9.0),
+    (0.0, 8.0 / 9.0),
+    (0.774_596_669_241_483_4, 5.0 / 9.0),
+];
+
+fn bin_of(w: Vec3) -> usize {
+    let iz = (((w.z + 1.0) * 0.5 * NZ as f64) as usize).min(NZ - 1);
+    let ip = ((w.y.atan2(w.x).abs() / PI * NP as f64) as usize).min(NP - 1);
+    iz * NP + ip
+}
+
+/// Chi-square p-value of the weighted histogram of `n` exits sampled by the null walk against
+/// the bin integrals of its `eval` (Gauss-Legendre nodes, one batch of walks; the statistic
+/// includes their standard errors and the sample weights), as in `walk_sample_eval.rs`.
+fn sample_eval_p_value<S: SphereNdf, F: Facet>(
+    ms: &NullMicrosurface<S, F>,
+    wi: Vec3,
+    n: u64,
+) -> f64 {
+    let (dz, dp) = (2.0 / NZ as f64, PI / NP as f64);
+    let mut nodes = Vec::new();
+    let mut weights = Vec::new();
+    for iz in 0..NZ {
+        for ip in 0..NP {
+            for (xz, wz) in GL {
+                for (xp, wp) in GL {
+                    let z = -1.0 + dz * (iz as f64 + 0.5 + 0.5 * xz);
+                    let phi = dp * (ip as f64 + 0.5 + 0.5 * xp);
+                    nodes.push(spherical_direction(z.clamp(-1.0, 1.0).acos(), phi));
+                    weights.push(2.0 * 0.25 * wz * wp * dz * dp);
+                }
+            }
+        }
+    }
+    // Enough walks that the heavy-tailed next-event estimate of rare multiple-scattering paths
+    // is resolved in the sparse bins (at 6000 walks it is visibly too low there).
+    let est = ms.eval_many(wi, &nodes, 20_000, 77);
+    let per_bin = GL.len() * GL.len();
+    let expected: Vec<(f64, f64)> = (0..NZ * NP)
+        .map(|b| {
+            let r = b * per_bin..(b + 1) * per_bin;
+            let mean: f64 = r.clone().map(|k| weights[k] * est[k].mean).sum();
+            let se: f64 = r.map(|k| weights[k] * est[k].stderr).sum();
+            (mean * n as f64, se * n as f64)
+        })
+        .collect();
+    let mut sum_w = vec![0.0f64; NZ * NP];
+    let mut sum_w2 = vec![0.0f64; NZ * NP];
+    let mut rng = Pcg64::seed_from_u64(5);
+    for _ in 0..n {
+        if let Some(s) = ms.sample_walk(wi, &mut rng) {
+            let b = bin_of(s.wo);
+            sum_w[b] += s.weight;
+            sum_w2[b] += s.weight * s.weight;
+        }
+    }
+    let variance = |o: f64, o2: f64, e: f64, se: f64| {
+        let w = if o > 0.0 { o2 / o } else { 1.0 };
+        e * w + se * se
+    };
+    let (mut chi2, mut dof) = (0.0, 0usize);
+    let (mut pool_o, mut pool_o2, mut pool_e, mut pool_v) = (0.0, 0.0, 0.0, 0.0);
+    for (b, &(e, se)) in expected.iter().enumerate() {
+        if e < 5.0 {
+            pool_o += sum_w[b];
+            pool_o2 += sum_w2[b];
+            pool_e += e;
+            pool_v += se * se;
+        } else {
+            chi2 += (sum_w[b] - e).powi(2) / variance(sum_w[b], sum_w2[b], e, se);
+            dof += 1;
+        }
+    }
+    if pool_e > 0.0 || pool_o > 0.0 {
+        let v = variance(pool_o, pool_o2, pool_e, pool_v.sqrt()).max(1.0);
+        chi2 += (pool_o - pool_e).powi(2) / v;
+        dof += 1;
+    }
+    statrs::function::gamma::gamma_ur(dof as f64 / 2.0, chi2 / 2.0)
+}
+
+#[test]
+fn null_walk_samples_follow_its_eval() {
+    let wi = spherical_direction(0.9, 0.0);
+    let vmf = VonMisesFisher::new(3.0).unwrap();
+    let porous = Porous::new(Ggx::new(0.5).unwrap(), 0.3).unwrap();
+    let ggx = Ggx::new(0.6).unwrap();
+    let p = [
+        sample_eval_p_value(
+            &NullMicrosurface::new(vmf, ConductorFacet::fresnel(1.3, 2.2).unwrap()).unwrap(),
+            wi,
+            40_000,
+        ),
+        sample_eval_p_value(
+            &NullMicrosurface::new(porous, LambertianFacet::new(0.8).unwrap()).unwrap(),
+            wi,
+            40_000,
+        ),
+        sample_eval_p_value(
+            &NullMicrosurface::new(ggx, DielectricFacet::new(1.51).unwrap()).unwrap(),
+            wi,
+            40_000,
+        ),
+    ];
+    eprintln!("CHI2 p = {p:?}");
+    let threshold = stfit_core::validate::bonferroni(1e-3, p.len());
+    assert!(p.iter().all(|&x| x > threshold), "p = {p:?}");
+}
+
+#[test]
+fn null_walk_reproduces_conductor_facets_lit_from_inside() {
+    // The mirrored surface below the interface: light from below, conductor facets.
+    let ndf = Ggx::new(0.7).unwrap();
+    let facet = ConductorFacet::fresnel(1.3, 2.2).unwrap();
+    let wi = spherical_direction(PI - 0.8, 0.0);
+    let wos: Vec<Vec3> = directions().into_iter().filter(|w| w.z < 0.0).collect();
+    let hf = Microsurface::new(ndf, facet);
+    let null = NullMicrosurface::new(ndf, facet).unwrap();
+    let (a, b) = (hf.albedo(wi, 20_000, 5), null.albedo(wi, 20_000, 6));
+    assert_close(
+        (a.reflectance, a.reflectance_stderr),
+        (b.reflectance, b.reflectance_stderr),
+        "conductor from inside R",
+    );
+    assert_eq!(b.transmittance, 0.0);
+    let (ea, eb) = (
+        hf.eval_many(wi, &wos, 20_000, 7),
+        null.eval_many(wi, &wos, 20_000, 8),
+    );
+    for ((wo, x), y) in wos.iter().zip(&ea).zip(&eb) {
+        assert_close(
+            (x.mean, x.stderr),
+            (y.mean, y.stderr),
+            &format!("conductor from inside wo {wo:?}"),
+        );
+    }
+}

@@ -34,6 +34,12 @@ pub trait SphereNdf: Clone + Send + Sync {
     /// quadrature panels of [`SphereNdf::sigma`].
     fn angular_width(&self) -> f64;
 
+    /// Whether `D` vanishes below the horizon (`u <= 0`), as for height fields. The
+    /// null-scattering walk then takes its majorant on the upper hemisphere only.
+    fn height_field(&self) -> bool {
+        false
+    }
+
     /// `D(wm)` for a unit `wm`.
     fn d(&self, wm: Vec3) -> f64 {
         self.d_cos(wm.z.clamp(-1.0, 1.0))

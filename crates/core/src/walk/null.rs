@@ -16,29 +16,31 @@ use std::f64::consts::PI;
 /// null-scattering walk. As a [`Bsdf`] it has the same semantics as
 /// [`Microsurface`](super::Microsurface): `eval` and `pdf` are unbiased one-walk estimates,
 /// `sample` fills `pdf` with one `pdf` estimate. Each `eval` or `pdf` call computes
-/// `sigma(-wo)` by quadrature (tens of microseconds); `eval_many` does it once per direction. The walk follows d'Eon 2023 (section 3 of the
-/// seed paper; theory section 7).
+/// `sigma(-wo)` by quadrature (tens of microseconds); `eval_many` does it once per direction.
+/// The walk follows d'Eon 2023 (section 3 of the seed paper; theory section 7).
 ///
 /// The microsurface is the half-space of depths `t >= 0` of the height-field walk, filled with
 /// facets whose orientations follow a [`SphereNdf`] `D` (porous, granular or volumetric surfaces;
-/// height fields are the special case `D = 0` below the horizon). A constant majorant
-/// `Dbar >= D` turns it into a homogeneous medium: the majorant's projected area is `pi Dbar`
-/// from every direction, so tentative collisions along a direction `w` come at rate
-/// `pi Dbar / |w.z|` per unit depth, and the normal of the facet met is cosine-distributed about
-/// the direction the light comes from (the visible normals of a uniform NDF). The collision is
-/// real with probability `D(m) / Dbar` and null otherwise (the walker flies on unchanged). Real
+/// height fields are the special case `D = 0` below the horizon). A majorant `Dbar >= D`,
+/// constant on the sphere (or, for height fields, on the upper hemisphere and zero below),
+/// turns it into a homogeneous medium: seen from the direction `v` the light comes from, its
+/// projected area is `sigma_bar(v)` (`majorant_sigma`: `pi Dbar`, or `pi Dbar (1 + v.z) / 2`),
+/// so tentative collisions along `w` come at rate `sigma_bar / |w.z|` per unit depth, and the
+/// normal of the facet met follows the majorant's visible normals about `v` (cosine-distributed,
+/// or the spherical cap of GGX at alpha = 1 for the hemisphere). The collision is real with
+/// probability `D(m) / Dbar` and null otherwise (the walker flies on unchanged). Real
 /// collisions scatter with the facet BSDF exactly as in the height-field walk, including the
 /// crossing to the mirrored surface for transmitting facets.
 ///
 /// Next-event estimation is done at every tentative collision with the facet phase function
-/// averaged over the sub-normalised density `max(0, wi_side . m) D(m) / (pi Dbar)` (its mass is
+/// averaged over the sub-normalised density `max(0, wi_side . m) D(m) / sigma_bar` (its mass is
 /// the probability that the collision is real), so no `sigma(wi)` is needed along the walk. The
 /// escape probability toward `wo` from depth `t` is `exp(-t Lambda(wo))` with
 /// `Lambda(wo) = sigma(-wo) / wo.z`, `sigma` from [`SphereNdf::sigma`] (quadrature), once per
 /// target direction.
 ///
 /// For a height-field NDF the walk reproduces the height-field walk. Its cost grows with
-/// `pi Dbar / sigma`, the number of tentative collisions per real one, so it suits rough or
+/// `sigma_bar / sigma`, the number of tentative collisions per real one, so it suits rough or
 /// porous surfaces (roughness above about 0.4); for smooth height fields prefer
 /// [`Microsurface`](super::Microsurface). Transmitting facets on a full-sphere NDF follow the
 /// height-field walk's model of the mirrored surface below the interface.
@@ -53,8 +55,8 @@ pub struct NullMicrosurface<S, F> {
 }
 
 /// A tentative collision of the null-scattering walk, seen by next-event estimation: normals
-/// with density `max(0, wi_side . m) D(m) / (pi Dbar)`, drawn cosine-weighted with weight
-/// `D(m) / Dbar`.
+/// with density `max(0, wi_side . m) D(m) / sigma_bar(wi_side)`, drawn from the majorant's
+/// visible normals with weight `D(m) / Dbar` (see `majorant_sigma`).
 #[derive(Debug, Clone, Copy)]
 pub struct NullHit<'a, S> {
     ndf: &'a S,
@@ -64,7 +66,8 @@ pub struct NullHit<'a, S> {
 }
 
 impl<'a, S: SphereNdf> NullHit<'a, S> {
-    /// A tentative collision of light arriving from `wi` on the given side, majorant `bound`.
+    /// A tentative collision of light arriving from `wi` on the given side, majorant `bound`
+    /// (on the upper hemisphere if the NDF is a height field, else on the sphere).
     pub fn new(ndf: &'a S, wi: Vec3, inside: bool, bound: f64) -> Self {
         Self {
             ndf,
@@ -72,6 +75,91 @@ impl<'a, S: SphereNdf> NullHit<'a, S> {
             inside,
             bound,
         }
+    }
+}
+
+/// Projected area `sigma_bar(v)` seen from the unit `v` of the majorant: `pi Dbar` for the
+/// constant `Dbar` on the sphere, `pi Dbar (1 + v.z) / 2` for `Dbar` on the upper hemisphere
+/// (zero below), which suffices for height fields and wastes no tentative collisions on
+/// normals below the horizon.
+#[inline]
+fn majorant_sigma(bound: f64, upper: bool, v: Vec3) -> f64 {
+    if upper {
+        0.5 * PI * bound * (1.0 + v.z)
+    } else {
+        PI * bound
+    }
+}
+
+/// A drawn point of the spherical cap of [`Cap::sample`], from which the normal follows.
+#[derive(Debug, Clone, Copy)]
+struct CapSample {
+    /// `sqrt(1 - z^2) cos phi`, `sqrt(1 - z^2) sin phi` and `z` of the cap point.
+    c: Vec3,
+    /// `1 / |c + v|`.
+    inv_len: f64,
+}
+
+/// Visible normals of the constant NDF on the upper hemisphere (GGX at alpha = 1) seen from
+/// the unit `v`: Dupuy and Benyoub 2023's spherical cap, with the azimuth of a uniform point of
+/// the unit disk doubled (no trigonometry). Holds the per-direction quantities `v`, `|v_xy|`
+/// and the unit azimuth of `v`.
+#[derive(Debug, Clone, Copy)]
+struct Cap {
+    v: Vec3,
+    vxy: f64,
+    ex: f64,
+    ey: f64,
+}
+
+impl Cap {
+    #[inline]
+    fn new(v: Vec3) -> Self {
+        let vxy = v.x.hypot(v.y);
+        let (ex, ey) = if vxy > 0.0 {
+            (v.x / vxy, v.y / vxy)
+        } else {
+            (1.0, 0.0)
+        };
+        Self { v, vxy, ex, ey }
+    }
+
+    /// One visible normal as `m.z` and the cap point (the walk needs the whole normal, from
+    /// [`Cap::normal`], only at real collisions); `None` in the measure-zero case `c = -v`.
+    #[inline]
+    fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> Option<(f64, CapSample)> {
+        let (x, y, r2) = loop {
+            let x = 2.0 * rng.random::<f64>() - 1.0;
+            let y = 2.0 * rng.random::<f64>() - 1.0;
+            let r2 = x * x + y * y;
+            if r2 < 1.0 && r2 > 0.0 {
+                break (x, y, r2);
+            }
+        };
+        let (cp, sp) = ((x * x - y * y) / r2, 2.0 * x * y / r2);
+        let vz = self.v.z;
+        let z = (1.0 - rng.random::<f64>()) * (1.0 + vz) - vz;
+        let s = safe_sqrt(1.0 - z * z);
+        let len2 = 2.0 + 2.0 * (s * cp * self.vxy + z * vz);
+        if len2 <= 0.0 {
+            return None;
+        }
+        let inv_len = 1.0 / len2.sqrt();
+        Some((
+            (z + vz) * inv_len,
+            CapSample {
+                c: Vec3::new(s * cp, s * sp, z),
+                inv_len,
+            },
+        ))
+    }
+
+    /// The normal of a [`CapSample`] in world coordinates.
+    #[inline]
+    fn normal(&self, c: &CapSample) -> Vec3 {
+        let (a, b) = (c.c.x, c.c.y);
+        let cw = Vec3::new(a * self.ex - b * self.ey, a * self.ey + b * self.ex, c.c.z);
+        (cw + self.v) * c.inv_len
     }
 }
 
@@ -88,16 +176,26 @@ impl<S: SphereNdf> VisibleNormals for NullHit<'_, S> {
 
     #[inline]
     fn density(&self, m: Vec3) -> f64 {
-        let c = self.wi_side().dot(&m);
+        let v = self.wi_side();
+        let c = v.dot(&m);
         if c <= 0.0 {
             return 0.0;
         }
-        c * self.ndf.d(m) / (PI * self.bound)
+        c * self.ndf.d(m) / majorant_sigma(self.bound, self.ndf.height_field(), v)
     }
 
     #[inline]
     fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> (Vec3, f64) {
-        let m = cosine_about(self.wi_side(), rng);
+        let v = self.wi_side();
+        let m = if self.ndf.height_field() {
+            let cap = Cap::new(v);
+            match cap.sample(rng) {
+                Some((_, c)) => cap.normal(&c),
+                None => return (v, 0.0),
+            }
+        } else {
+            cosine_about(v, rng)
+        };
         (m, self.ndf.d(m) / self.bound)
     }
 }
@@ -105,10 +203,21 @@ impl<S: SphereNdf> VisibleNormals for NullHit<'_, S> {
 /// A unit vector drawn with density `max(0, v . m) / pi` about the unit vector `v`.
 #[inline]
 fn cosine_about<R: Rng + ?Sized>(v: Vec3, rng: &mut R) -> Vec3 {
-    let (u1, u2): (f64, f64) = (rng.random(), rng.random());
-    let r = u1.sqrt();
-    let (sp, cp) = (2.0 * PI * u2).sin_cos();
-    Frame::from_normal(v).to_world(Vec3::new(r * cp, r * sp, safe_sqrt(1.0 - u1)))
+    Frame::from_normal(v).to_world(cosine_local(rng))
+}
+
+/// A unit vector drawn with density `max(0, z) / pi` (Malley: a uniform point of the unit disk,
+/// by rejection from the square, lifted to the hemisphere; no trigonometry).
+#[inline]
+fn cosine_local<R: Rng + ?Sized>(rng: &mut R) -> Vec3 {
+    loop {
+        let x = 2.0 * rng.random::<f64>() - 1.0;
+        let y = 2.0 * rng.random::<f64>() - 1.0;
+        let r2 = x * x + y * y;
+        if r2 < 1.0 {
+            return Vec3::new(x, y, safe_sqrt(1.0 - r2));
+        }
+    }
 }
 
 impl<S: SphereNdf, F: Facet> NullMicrosurface<S, F> {
@@ -207,17 +316,24 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
         mut visit: impl FnMut(&Hit, &mut R),
     ) -> WalkEnd {
         let last = self.orders.last_order();
-        let rate = PI * self.bound;
+        let upper = self.ndf.height_field();
         let mut w = -start.wi;
         let mut inside = start.wi.z < 0.0;
         let mut depth = 0.0f64;
         let mut weight = 1.0f64;
         let mut real = 0u32;
+        // Per direction (changed only by real collisions): the direction in the frame of the
+        // surface on the walker's side, the depth per unit exponential flight, and the frame of
+        // the cosine lobe of tentative normals about `-ws`.
+        let mut ws = if inside { -w } else { w };
+        let mut rate = majorant_sigma(self.bound, upper, -ws);
+        let mut step = ws.z.abs() / rate;
+        let mut lobe = Frame::from_normal(-ws);
+        let mut cap = Cap::new(-ws);
         loop {
-            // Fly to the next tentative collision, in the frame of the surface on the walker's side.
-            let ws = if inside { -w } else { w };
+            // Fly to the next tentative collision.
             let flight: f64 = rng.sample(Exp1);
-            let dt = flight * ws.z.abs() / rate;
+            let dt = flight * step;
             if ws.z > 0.0 {
                 depth -= dt;
                 if depth.is_nan() || depth <= 0.0 {
@@ -243,11 +359,24 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
                     rng,
                 );
             }
-            // Real with probability D(m) / Dbar for a cosine-distributed normal m.
-            let m = cosine_about(-ws, rng);
-            if rng.random::<f64>() * self.bound >= self.ndf.d(m) {
-                continue;
-            }
+            // Real with probability D(m) / Dbar for a visible normal m of the majorant; D needs
+            // only m.z, the full normal only a real collision.
+            let m = if upper {
+                let Some((mz, c)) = cap.sample(rng) else {
+                    continue;
+                };
+                if rng.random::<f64>() * self.bound >= self.ndf.d_cos(mz.clamp(-1.0, 1.0)) {
+                    continue;
+                }
+                cap.normal(&c)
+            } else {
+                let local = cosine_local(rng);
+                let mz = lobe.s.z * local.x + lobe.t.z * local.y + lobe.n.z * local.z;
+                if rng.random::<f64>() * self.bound >= self.ndf.d_cos(mz.clamp(-1.0, 1.0)) {
+                    continue;
+                }
+                lobe.to_world(local)
+            };
             real += 1;
             if real > last {
                 return WalkEnd::Stopped;
@@ -264,7 +393,17 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
                 depth = mirrored_depth(depth);
                 inside = now_inside;
             }
-            w = s.wo;
+            // Renormalised: rounding in the facet frames would otherwise compound over the
+            // thousands of real collisions of a near-isotropic NDF.
+            w = s.wo.normalize();
+            ws = if inside { -w } else { w };
+            rate = majorant_sigma(self.bound, upper, -ws);
+            step = ws.z.abs() / rate;
+            if upper {
+                cap = Cap::new(-ws);
+            } else {
+                lobe = Frame::from_normal(-ws);
+            }
         }
     }
 
