@@ -328,90 +328,20 @@ fn null_walk_eval_is_reciprocal() {
     }
 }
 
-/// Bins in `cos theta` over [-1, 1] and in `|phi|` over [0, pi] (the light is in the x-z plane).
-const NZ: usize = 16;
-const NP: usize = 8;
-/// Gauss-Legendre nodes and weights on [-1, 1], three points.
-const GL: [(f64, f64); 3] = [
-    (-0.774_596_669_241_483_4, 5.0 / 9.0),
-    (0.0, 8.0 / 9.0),
-    (0.774_596_669_241_483_4, 5.0 / 9.0),
-];
-
-fn bin_of(w: Vec3) -> usize {
-    let iz = (((w.z + 1.0) * 0.5 * NZ as f64) as usize).min(NZ - 1);
-    let ip = ((w.y.atan2(w.x).abs() / PI * NP as f64) as usize).min(NP - 1);
-    iz * NP + ip
-}
-
-/// Chi-square p-value of the weighted histogram of `n` exits sampled by the null walk against
-/// the bin integrals of its `eval` (Gauss-Legendre nodes, one batch of walks; the statistic
-/// includes their standard errors and the sample weights), as in `walk_sample_eval.rs`.
+/// Chi-square p-value of `n` exits sampled by the null walk against its `eval`, by
+/// [`walk_cases::sample_eval_p_value`].
 fn sample_eval_p_value<S: SphereNdf, F: Facet>(
     ms: &NullMicrosurface<S, F>,
     wi: Vec3,
     n: u64,
 ) -> f64 {
-    let (dz, dp) = (2.0 / NZ as f64, PI / NP as f64);
-    let mut nodes = Vec::new();
-    let mut weights = Vec::new();
-    for iz in 0..NZ {
-        for ip in 0..NP {
-            for (xz, wz) in GL {
-                for (xp, wp) in GL {
-                    let z = -1.0 + dz * (iz as f64 + 0.5 + 0.5 * xz);
-                    let phi = dp * (ip as f64 + 0.5 + 0.5 * xp);
-                    nodes.push(spherical_direction(z.clamp(-1.0, 1.0).acos(), phi));
-                    weights.push(2.0 * 0.25 * wz * wp * dz * dp);
-                }
-            }
-        }
-    }
     // Enough walks that the heavy-tailed next-event estimate of rare multiple-scattering paths
     // is resolved in the sparse bins (at 6000 walks it is visibly too low there).
-    let est = ms.eval_many(wi, &nodes, 20_000, 77);
-    let per_bin = GL.len() * GL.len();
-    let expected: Vec<(f64, f64)> = (0..NZ * NP)
-        .map(|b| {
-            let r = b * per_bin..(b + 1) * per_bin;
-            let mean: f64 = r.clone().map(|k| weights[k] * est[k].mean).sum();
-            let se: f64 = r.map(|k| weights[k] * est[k].stderr).sum();
-            (mean * n as f64, se * n as f64)
-        })
-        .collect();
-    let mut sum_w = vec![0.0f64; NZ * NP];
-    let mut sum_w2 = vec![0.0f64; NZ * NP];
-    let mut rng = Pcg64::seed_from_u64(5);
-    for _ in 0..n {
-        if let Some(s) = ms.sample_walk(wi, &mut rng) {
-            let b = bin_of(s.wo);
-            sum_w[b] += s.weight;
-            sum_w2[b] += s.weight * s.weight;
-        }
-    }
-    let variance = |o: f64, o2: f64, e: f64, se: f64| {
-        let w = if o > 0.0 { o2 / o } else { 1.0 };
-        e * w + se * se
-    };
-    let (mut chi2, mut dof) = (0.0, 0usize);
-    let (mut pool_o, mut pool_o2, mut pool_e, mut pool_v) = (0.0, 0.0, 0.0, 0.0);
-    for (b, &(e, se)) in expected.iter().enumerate() {
-        if e < 5.0 {
-            pool_o += sum_w[b];
-            pool_o2 += sum_w2[b];
-            pool_e += e;
-            pool_v += se * se;
-        } else {
-            chi2 += (sum_w[b] - e).powi(2) / variance(sum_w[b], sum_w2[b], e, se);
-            dof += 1;
-        }
-    }
-    if pool_e > 0.0 || pool_o > 0.0 {
-        let v = variance(pool_o, pool_o2, pool_e, pool_v.sqrt()).max(1.0);
-        chi2 += (pool_o - pool_e).powi(2) / v;
-        dof += 1;
-    }
-    statrs::function::gamma::gamma_ur(dof as f64 / 2.0, chi2 / 2.0)
+    walk_cases::sample_eval_p_value(
+        |rng| ms.sample_walk(wi, rng),
+        |nodes| ms.eval_many(wi, nodes, 20_000, 77),
+        n,
+    )
 }
 
 #[test]

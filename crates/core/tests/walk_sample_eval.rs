@@ -1,14 +1,6 @@
 //! `sample` agrees with `eval`: a histogram of sampled walk exits over the sphere against the
-//! integral of `eval` over each bin, by a chi-square test.
-//!
-//! `validate::chi_square` integrates a deterministic density adaptively; `eval` is a Monte Carlo
-//! estimate, so the bin integrals here come from one batch of walks evaluated at fixed
-//! Gauss-Legendre nodes, and the statistic includes their standard errors and the sample
-//! weights.
+//! integral of `eval` over each bin, by a chi-square test (`walk_cases::sample_eval_p_value`).
 
-use rand::SeedableRng;
-use rand_pcg::Pcg64;
-use statrs::function::gamma::gamma_ur;
 use std::f64::consts::PI;
 use stfit_core::Vec3;
 use stfit_core::math::spherical_direction;
@@ -19,95 +11,19 @@ use stfit_core::walk::{DielectricFacet, Facet, LambertianFacet, Microsurface};
 mod walk_cases;
 use walk_cases::{ggx, ndfs};
 
-/// Bins in `cos theta` over [-1, 1] and in `|phi|` over [0, pi] (the light is in the x-z plane,
-/// so the exit distribution is symmetric in `phi`).
-const NZ: usize = 16;
-const NP: usize = 8;
-/// Gauss-Legendre nodes and weights on [-1, 1], three points.
-const GL: [(f64, f64); 3] = [
-    (-0.774_596_669_241_483_4, 5.0 / 9.0),
-    (0.0, 8.0 / 9.0),
-    (0.774_596_669_241_483_4, 5.0 / 9.0),
-];
-
-fn bin_of(w: Vec3) -> usize {
-    let iz = (((w.z + 1.0) * 0.5 * NZ as f64) as usize).min(NZ - 1);
-    let ip = ((w.y.atan2(w.x).abs() / PI * NP as f64) as usize).min(NP - 1);
-    iz * NP + ip
-}
-
-/// Chi-square p-value of the weighted histogram of `n` exits sampled from `sampler` against the
-/// integrals over each bin of `evaluator`'s `eval` (the same microsurface unless testing the test).
+/// Chi-square p-value of `n` exits sampled from `sampler` against `evaluator`'s `eval` (the same
+/// microsurface unless testing the test), by [`walk_cases::sample_eval_p_value`].
 fn sample_eval_p_value<N: Ndf, F: Facet>(
     sampler: &Microsurface<N, F>,
     evaluator: &Microsurface<N, F>,
     wi: Vec3,
     n: u64,
 ) -> f64 {
-    // Quadrature nodes per bin and their weights (dz dphi, both signs of phi).
-    let (dz, dp) = (2.0 / NZ as f64, PI / NP as f64);
-    let mut nodes = Vec::new();
-    let mut weights = Vec::new();
-    for iz in 0..NZ {
-        for ip in 0..NP {
-            for (xz, wz) in GL {
-                for (xp, wp) in GL {
-                    let z = -1.0 + dz * (iz as f64 + 0.5 + 0.5 * xz);
-                    let phi = dp * (ip as f64 + 0.5 + 0.5 * xp);
-                    nodes.push(spherical_direction(z.clamp(-1.0, 1.0).acos(), phi));
-                    weights.push(2.0 * 0.25 * wz * wp * dz * dp);
-                }
-            }
-        }
-    }
-    let est = evaluator.eval_many(wi, &nodes, 10_000, 77);
-    let per_bin = GL.len() * GL.len();
-    let expected: Vec<(f64, f64)> = (0..NZ * NP)
-        .map(|b| {
-            let r = b * per_bin..(b + 1) * per_bin;
-            let mean: f64 = r.clone().map(|k| weights[k] * est[k].mean).sum();
-            // Upper bound on the standard error (the nodes share walks).
-            let se: f64 = r.map(|k| weights[k] * est[k].stderr).sum();
-            (mean * n as f64, se * n as f64)
-        })
-        .collect();
-    // Sums of sample weights and of their squares per bin.
-    let mut sum_w = vec![0.0f64; NZ * NP];
-    let mut sum_w2 = vec![0.0f64; NZ * NP];
-    let mut rng = Pcg64::seed_from_u64(5);
-    for _ in 0..n {
-        if let Some(s) = sampler.sample_walk(wi, &mut rng) {
-            let b = bin_of(s.wo);
-            sum_w[b] += s.weight;
-            sum_w2[b] += s.weight * s.weight;
-        }
-    }
-    // Variance of a bin's weight sum: expected mass times the observed mean square weight per
-    // unit weight (Pearson's `e` for unit weights), plus the error of the expectation.
-    let variance = |o: f64, o2: f64, e: f64, se: f64| {
-        let w = if o > 0.0 { o2 / o } else { 1.0 };
-        e * w + se * se
-    };
-    // Pool the bins expecting fewer than 5 counts into one.
-    let (mut chi2, mut dof) = (0.0, 0usize);
-    let (mut pool_o, mut pool_o2, mut pool_e, mut pool_v) = (0.0, 0.0, 0.0, 0.0);
-    for (b, &(e, se)) in expected.iter().enumerate() {
-        if e < 5.0 {
-            pool_o += sum_w[b];
-            pool_o2 += sum_w2[b];
-            pool_e += e;
-            pool_v += se * se;
-        } else {
-            chi2 += (sum_w[b] - e).powi(2) / variance(sum_w[b], sum_w2[b], e, se);
-            dof += 1;
-        }
-    }
-    if pool_e > 0.0 || pool_o > 0.0 {
-        let v = variance(pool_o, pool_o2, pool_e, pool_v.sqrt()).max(1.0);
-        chi2 += (pool_o - pool_e).powi(2) / v;
-        dof += 1;
-    }
-    gamma_ur(dof as f64 / 2.0, chi2 / 2.0)
+    walk_cases::sample_eval_p_value(
+        |rng| sampler.sample_walk(wi, rng),
+        |nodes| evaluator.eval_many(wi, nodes, 10_000, 77),
+        n,
+    )
 }
 
 #[test]
