@@ -1,7 +1,7 @@
 //! `stfit albedo`: fractions of the incident flux that a rough surface reflects and transmits,
 //! by the height-field or the null-scattering random walk.
 
-use super::surface::{self, BaseKind, Estimators, FacetKind, Walk};
+use super::surface::{self, Estimators, SurfaceArgs};
 use super::{CmdError, CmdResult, print_stdout};
 use clap::ValueEnum;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -9,35 +9,6 @@ use std::io::IsTerminal;
 use stfit_core::Vec3;
 use stfit_core::math::radians;
 use stfit_core::walk::{AlbedoEstimate, ScatteringOrders};
-
-/// The NDF family.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum NdfKind {
-    /// Beckmann height field (--alpha).
-    Beckmann,
-    /// GGX height field (--alpha).
-    Ggx,
-    /// Student-T height field (--alpha, --gamma).
-    StudentT,
-    /// von Mises-Fisher on the whole sphere (--kappa; needs --walk null and a conductor or
-    /// Lambertian facet).
-    Vmf,
-    /// A height field (--base, --alpha, [--gamma]) blended with uniformly oriented facets
-    /// (--porosity); needs --walk null and a conductor or Lambertian facet.
-    Porous,
-}
-
-impl NdfKind {
-    /// The height-field family, if this is one.
-    pub fn family(self) -> Option<BaseKind> {
-        match self {
-            Self::Beckmann => Some(BaseKind::Beckmann),
-            Self::Ggx => Some(BaseKind::Ggx),
-            Self::StudentT => Some(BaseKind::StudentT),
-            Self::Vmf | Self::Porous => None,
-        }
-    }
-}
 
 /// Scattering orders to count.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -63,40 +34,8 @@ impl From<Scattering> for ScatteringOrders {
 /// Arguments of `stfit albedo`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// NDF family.
-    #[arg(long, value_enum)]
-    pub ndf: NdfKind,
-    /// Roughness alpha (> 0) of a height-field NDF or of the base of --ndf porous.
-    #[arg(long, allow_negative_numbers = true)]
-    pub alpha: Option<f64>,
-    /// Student-T shape gamma (> 3/2); required for student-t, rejected otherwise.
-    #[arg(long, allow_negative_numbers = true)]
-    pub gamma: Option<f64>,
-    /// Concentration kappa (> 0) of --ndf vmf.
-    #[arg(long, allow_negative_numbers = true)]
-    pub kappa: Option<f64>,
-    /// Height-field base of --ndf porous.
-    #[arg(long, value_enum)]
-    pub base: Option<BaseKind>,
-    /// Fraction of the facet area of --ndf porous that is uniformly oriented, in [0, 1].
-    #[arg(long, allow_negative_numbers = true)]
-    pub porosity: Option<f64>,
-    /// Facet material: dielectric (height-field NDFs; --eta), conductor (--n and --k, or a
-    /// perfect mirror without them) or lambertian (--reflectance).
-    #[arg(long, value_enum, default_value_t)]
-    pub facet: FacetKind,
-    /// Relative index n_inside / n_outside (> 0, != 1) of dielectric facets.
-    #[arg(long, allow_negative_numbers = true)]
-    pub eta: Option<f64>,
-    /// Real part of the conductor's relative index (with --k).
-    #[arg(long, allow_negative_numbers = true)]
-    pub n: Option<f64>,
-    /// Imaginary part of the conductor's relative index (with --n).
-    #[arg(long, allow_negative_numbers = true)]
-    pub k: Option<f64>,
-    /// Albedo of Lambertian facets, in [0, 1].
-    #[arg(long, allow_negative_numbers = true)]
-    pub reflectance: Option<f64>,
+    #[command(flatten)]
+    pub surface: SurfaceArgs,
     /// Incidence angle in degrees from the outward normal, in [0, 180] except 90; above 90 the
     /// light comes from inside.
     #[arg(long = "theta-i", allow_negative_numbers = true)]
@@ -104,11 +43,6 @@ pub struct Args {
     /// Scattering orders to count.
     #[arg(long, value_enum, default_value_t = Scattering::All)]
     pub scattering: Scattering,
-    /// The random walk: heightfield (Heitz et al. 2016; height-field NDFs) or null (d'Eon 2023;
-    /// any bounded NDF, same results on height fields, slower at low roughness; Student-T needs
-    /// gamma >= 2).
-    #[arg(long, value_enum, default_value_t)]
-    pub walk: Walk,
     /// Number of walks.
     #[arg(long, default_value_t = 1_000_000)]
     pub samples: u64,
@@ -134,32 +68,10 @@ pub fn run(args: &Args) -> CmdResult {
     }
     let t = radians(theta);
     let wi = Vec3::new(-t.sin(), 0.0, t.cos());
-    let (ndf, facet) = args.surface().check()?;
-    let walk = surface::walker(ndf, facet, args.walk, args.scattering.into())?;
+    let (ndf, facet) = args.surface.options().check()?;
+    let walk = surface::walker(ndf, facet, args.surface.walk, args.scattering.into())?;
     let result = estimate(walk.as_ref(), wi, args);
     print_stdout(&format_result(args, &result))
-}
-
-impl Args {
-    /// The surface options, unchecked.
-    fn surface(&self) -> surface::Options {
-        surface::Options {
-            family: self.ndf.family(),
-            vmf: self.ndf == NdfKind::Vmf,
-            porous: self.ndf == NdfKind::Porous,
-            alpha: self.alpha,
-            gamma: self.gamma,
-            kappa: self.kappa,
-            base: self.base,
-            porosity: self.porosity,
-            facet: self.facet,
-            eta: self.eta,
-            n: self.n,
-            k: self.k,
-            reflectance: self.reflectance,
-            walk: self.walk,
-        }
-    }
 }
 
 /// Runs the walks, with a progress bar when both output streams are terminals.

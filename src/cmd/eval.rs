@@ -13,7 +13,7 @@
 
 use std::io::{BufWriter, Read, Write};
 
-use super::surface::{self, BaseKind, Estimators, FacetKind, Walk};
+use super::surface::{self, Estimators, FacetKind, NdfKind, SurfaceArgs, Walk};
 use super::{CmdError, CmdResult};
 use clap::ValueEnum;
 use stfit_core::Vec3;
@@ -31,21 +31,6 @@ const OUTPUT_COLUMN: &str = "f_cos";
 
 /// Largest accepted `| |w| - 1 |`: directions are checked, never silently normalised.
 const UNIT_TOLERANCE: f64 = 1e-6;
-
-/// A microfacet normal distribution by name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum NdfName {
-    Beckmann,
-    Ggx,
-    #[value(name = "student-t")]
-    StudentT,
-    /// von Mises-Fisher on the whole sphere (--kappa; needs --walk null and --facet conductor
-    /// or lambertian).
-    Vmf,
-    /// A height field (--base, --alpha, [--gamma]) blended with uniformly oriented facets
-    /// (--porosity); needs --walk null and --facet conductor or lambertian.
-    Porous,
-}
 
 /// A Smith masking model by name.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
@@ -69,47 +54,8 @@ impl From<MaskingName> for Masking {
 /// Arguments of `stfit eval`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct Args {
-    /// Microfacet normal distribution.
-    #[arg(long, value_enum)]
-    pub ndf: NdfName,
-    /// Roughness alpha (> 0) of a height-field NDF or of the base of --ndf porous.
-    #[arg(long, allow_negative_numbers = true)]
-    pub alpha: Option<f64>,
-    /// Student-T shape gamma (> 3/2); required with, and only allowed with, --ndf student-t
-    /// (or --base student-t).
-    #[arg(long, allow_negative_numbers = true)]
-    pub gamma: Option<f64>,
-    /// Concentration kappa (> 0) of --ndf vmf.
-    #[arg(long, allow_negative_numbers = true)]
-    pub kappa: Option<f64>,
-    /// Height-field base of --ndf porous.
-    #[arg(long, value_enum)]
-    pub base: Option<BaseKind>,
-    /// Fraction of the facet area of --ndf porous that is uniformly oriented, in [0, 1].
-    #[arg(long, allow_negative_numbers = true)]
-    pub porosity: Option<f64>,
-    /// Facet material of the walk: dielectric (--eta), conductor (--n and --k, or a perfect
-    /// mirror without them) or lambertian (--reflectance). Only dielectric has a closed-form
-    /// single-scattering BSDF.
-    #[arg(long, value_enum, default_value_t)]
-    pub facet: FacetKind,
-    /// Relative index of refraction n_inside / n_outside (> 0, != 1) of dielectric facets.
-    #[arg(long, allow_negative_numbers = true)]
-    pub eta: Option<f64>,
-    /// Real part of the conductor's relative index (with --k).
-    #[arg(long, allow_negative_numbers = true)]
-    pub n: Option<f64>,
-    /// Imaginary part of the conductor's relative index (with --n).
-    #[arg(long, allow_negative_numbers = true)]
-    pub k: Option<f64>,
-    /// Albedo of Lambertian facets, in [0, 1].
-    #[arg(long, allow_negative_numbers = true)]
-    pub reflectance: Option<f64>,
-    /// The random walk: heightfield (Heitz et al. 2016; height-field NDFs) or null (d'Eon 2023;
-    /// any bounded NDF). With --walk null or a non-dielectric facet every order, single too,
-    /// is a walk estimate.
-    #[arg(long, value_enum, default_value_t)]
-    pub walk: Walk,
+    #[command(flatten)]
+    pub surface: SurfaceArgs,
     /// Masking-shadowing model (single scattering only; the random walk's masking is height
     /// correlated by construction).
     #[arg(long, value_enum, default_value_t)]
@@ -130,15 +76,18 @@ pub struct Args {
 impl Args {
     /// The NDF these arguments describe, or an error naming the bad parameter.
     pub fn ndf(&self) -> Result<AnyNdf, String> {
-        let alpha = self.alpha.ok_or("--alpha is required for this --ndf")?;
-        let ndf: AnyNdf = match (self.ndf, self.gamma) {
-            (NdfName::Vmf | NdfName::Porous, _) => {
+        let alpha = self
+            .surface
+            .alpha
+            .ok_or("--alpha is required for this --ndf")?;
+        let ndf: AnyNdf = match (self.surface.ndf, self.surface.gamma) {
+            (NdfKind::Vmf | NdfKind::Porous, _) => {
                 return Err("--ndf vmf and --ndf porous need --walk null".into());
             }
-            (NdfName::StudentT, None) => {
+            (NdfKind::StudentT, None) => {
                 return Err("--ndf student-t requires --gamma".into());
             }
-            (NdfName::StudentT, Some(gamma)) => StudentT::new(alpha, gamma)
+            (NdfKind::StudentT, Some(gamma)) => StudentT::new(alpha, gamma)
                 .map_err(|e| format!("invalid Student-T parameters: {e}"))?
                 .into(),
             (ndf, Some(_)) => {
@@ -148,10 +97,10 @@ impl Args {
                     name.get_name()
                 ));
             }
-            (NdfName::Beckmann, None) => Beckmann::new(alpha)
+            (NdfKind::Beckmann, None) => Beckmann::new(alpha)
                 .map_err(|e| format!("invalid NDF parameters: {e}"))?
                 .into(),
-            (NdfName::Ggx, None) => Ggx::new(alpha)
+            (NdfKind::Ggx, None) => Ggx::new(alpha)
                 .map_err(|e| format!("invalid NDF parameters: {e}"))?
                 .into(),
         };
@@ -160,37 +109,12 @@ impl Args {
 
     /// The rough dielectric these arguments describe.
     pub fn bsdf(&self) -> Result<RoughDielectric<AnyNdf>, String> {
-        let eta = self.eta.ok_or("--eta is required for --facet dielectric")?;
+        let eta = self
+            .surface
+            .eta
+            .ok_or("--eta is required for --facet dielectric")?;
         RoughDielectric::new(self.ndf()?, eta, self.masking.into())
             .map_err(|e| format!("invalid --eta: {e}"))
-    }
-}
-
-impl Args {
-    /// The surface options of the walk, unchecked.
-    fn surface(&self) -> surface::Options {
-        let family = match self.ndf {
-            NdfName::Beckmann => Some(BaseKind::Beckmann),
-            NdfName::Ggx => Some(BaseKind::Ggx),
-            NdfName::StudentT => Some(BaseKind::StudentT),
-            NdfName::Vmf | NdfName::Porous => None,
-        };
-        surface::Options {
-            family,
-            vmf: self.ndf == NdfName::Vmf,
-            porous: self.ndf == NdfName::Porous,
-            alpha: self.alpha,
-            gamma: self.gamma,
-            kappa: self.kappa,
-            base: self.base,
-            porosity: self.porosity,
-            facet: self.facet,
-            eta: self.eta,
-            n: self.n,
-            k: self.k,
-            reflectance: self.reflectance,
-            walk: self.walk,
-        }
     }
 }
 
@@ -199,13 +123,13 @@ impl Args {
 pub fn run(args: &Args) -> CmdResult {
     let stdout = std::io::stdout().lock();
     let analytic = args.scattering == super::albedo::Scattering::Single
-        && args.walk == Walk::Heightfield
-        && args.facet == FacetKind::Dielectric
-        && !matches!(args.ndf, NdfName::Vmf | NdfName::Porous);
+        && args.surface.walk == Walk::Heightfield
+        && args.surface.facet == FacetKind::Dielectric
+        && !matches!(args.surface.ndf, NdfKind::Vmf | NdfKind::Porous);
     if analytic {
         for (missing, name) in [
-            (args.alpha.is_none(), "--alpha"),
-            (args.eta.is_none(), "--eta"),
+            (args.surface.alpha.is_none(), "--alpha"),
+            (args.surface.eta.is_none(), "--eta"),
         ] {
             if missing {
                 return Err(CmdError::Usage(format!("{name} is required")));
@@ -218,8 +142,8 @@ pub fn run(args: &Args) -> CmdResult {
     if args.samples == 0 {
         return Err(CmdError::Usage("--samples must be at least 1".into()));
     }
-    let (ndf, facet) = args.surface().check()?;
-    let walk = surface::walker(ndf, facet, args.walk, args.scattering.into())?;
+    let (ndf, facet) = args.surface.options().check()?;
+    let walk = surface::walker(ndf, facet, args.surface.walk, args.scattering.into())?;
     let input = std::io::stdin().lock();
     eval_walk_csv(
         walk.as_ref(),

@@ -12,6 +12,104 @@ use stfit_core::walk::{
     Microsurface, NullMicrosurface, ScatteringOrders,
 };
 
+/// The NDF family of `--ndf`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum NdfKind {
+    /// Beckmann height field (--alpha).
+    Beckmann,
+    /// GGX height field (--alpha).
+    Ggx,
+    /// Student-T height field (--alpha, --gamma).
+    #[value(name = "student-t")]
+    StudentT,
+    /// von Mises-Fisher on the whole sphere (--kappa; needs --walk null and --facet conductor
+    /// or lambertian).
+    Vmf,
+    /// A height field (--base, --alpha, [--gamma]) blended with uniformly oriented facets
+    /// (--porosity); needs --walk null and --facet conductor or lambertian.
+    Porous,
+}
+
+impl NdfKind {
+    /// The height-field family, if this is one.
+    pub fn family(self) -> Option<BaseKind> {
+        match self {
+            Self::Beckmann => Some(BaseKind::Beckmann),
+            Self::Ggx => Some(BaseKind::Ggx),
+            Self::StudentT => Some(BaseKind::StudentT),
+            Self::Vmf | Self::Porous => None,
+        }
+    }
+}
+
+/// The surface options of `stfit albedo` and `stfit eval`: NDF, facet material and walk.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SurfaceArgs {
+    /// NDF family.
+    #[arg(long, value_enum)]
+    pub ndf: NdfKind,
+    /// Roughness alpha (> 0) of a height-field NDF or of the base of --ndf porous.
+    #[arg(long, allow_negative_numbers = true)]
+    pub alpha: Option<f64>,
+    /// Student-T shape gamma (> 3/2); required with, and only allowed with, --ndf student-t
+    /// (or --base student-t).
+    #[arg(long, allow_negative_numbers = true)]
+    pub gamma: Option<f64>,
+    /// Concentration kappa (> 0) of --ndf vmf.
+    #[arg(long, allow_negative_numbers = true)]
+    pub kappa: Option<f64>,
+    /// Height-field base of --ndf porous.
+    #[arg(long, value_enum)]
+    pub base: Option<BaseKind>,
+    /// Fraction of the facet area of --ndf porous that is uniformly oriented, in [0, 1].
+    #[arg(long, allow_negative_numbers = true)]
+    pub porosity: Option<f64>,
+    /// Facet material: dielectric (height-field NDFs; --eta), conductor (--n and --k, or a
+    /// perfect mirror without them) or lambertian (--reflectance). Only dielectric has a
+    /// closed-form single-scattering BSDF.
+    #[arg(long, value_enum, default_value_t)]
+    pub facet: FacetKind,
+    /// Relative index of refraction n_inside / n_outside (> 0, != 1) of dielectric facets.
+    #[arg(long, allow_negative_numbers = true)]
+    pub eta: Option<f64>,
+    /// Real part of the conductor's relative index (with --k).
+    #[arg(long, allow_negative_numbers = true)]
+    pub n: Option<f64>,
+    /// Imaginary part of the conductor's relative index (with --n).
+    #[arg(long, allow_negative_numbers = true)]
+    pub k: Option<f64>,
+    /// Albedo of Lambertian facets, in [0, 1].
+    #[arg(long, allow_negative_numbers = true)]
+    pub reflectance: Option<f64>,
+    /// The random walk: heightfield (Heitz et al. 2016; height-field NDFs) or null (d'Eon 2023;
+    /// any bounded NDF, same results on height fields, slower at low roughness; Student-T needs
+    /// gamma >= 2).
+    #[arg(long, value_enum, default_value_t)]
+    pub walk: Walk,
+}
+
+impl SurfaceArgs {
+    /// The surface options, unchecked.
+    pub fn options(&self) -> Options {
+        Options {
+            family: self.ndf.family(),
+            vmf: self.ndf == NdfKind::Vmf,
+            porous: self.ndf == NdfKind::Porous,
+            alpha: self.alpha,
+            gamma: self.gamma,
+            kappa: self.kappa,
+            base: self.base,
+            porosity: self.porosity,
+            facet: self.facet,
+            eta: self.eta,
+            n: self.n,
+            k: self.k,
+            reflectance: self.reflectance,
+            walk: self.walk,
+        }
+    }
+}
+
 /// A height-field NDF family (the base of a porous NDF).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum BaseKind {
