@@ -209,3 +209,36 @@ pub(crate) fn nee_walk<W: Walker, R: Rng + ?Sized>(
     });
     sum
 }
+
+/// Implements [`Bsdf`](crate::bsdf::Bsdf) for a walk type through its [`Walker`]: `eval` and
+/// `pdf` are one next-event walk each, `sample` one walk whose `pdf` field is filled by a
+/// second, independent `pdf` walk.
+macro_rules! walk_bsdf {
+    ($ty:ident < $($g:ident : $b:path),* >) => {
+        impl<$($g: $b),*> $crate::bsdf::Bsdf for $ty<$($g),*> {
+            fn eval<R: rand::Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, rng: &mut R) -> f64 {
+                $crate::walk::engine::nee_walk(self, wi, wo, false, rng)
+            }
+
+            fn sample<R: rand::Rng + ?Sized>(
+                &self,
+                wi: Vec3,
+                rng: &mut R,
+            ) -> Option<$crate::bsdf::BsdfSample> {
+                let s = $crate::walk::engine::sample_walk(self, wi, rng)?;
+                let pdf = $crate::walk::engine::nee_walk(self, wi, s.wo, true, rng);
+                Some($crate::bsdf::BsdfSample {
+                    wo: s.wo,
+                    weight: s.weight,
+                    pdf,
+                    delta: false,
+                })
+            }
+
+            fn pdf<R: rand::Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, rng: &mut R) -> f64 {
+                $crate::walk::engine::nee_walk(self, wi, wo, true, rng)
+            }
+        }
+    };
+}
+pub(crate) use walk_bsdf;

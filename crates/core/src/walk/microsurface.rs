@@ -2,7 +2,6 @@
 
 use super::engine::{self, Hit, Start, Target, WalkEnd, WalkSample, Walker, mirrored_depth};
 use super::{Facet, HeightFieldHit, MAX_BOUNCES, ScatteringOrders};
-use crate::bsdf::{Bsdf, BsdfSample};
 use crate::error::ParamError;
 use crate::math::Vec3;
 use crate::ndf::Ndf;
@@ -17,11 +16,11 @@ use rand_distr::Exp1;
 /// the lower side sees a two-sided sheet. A microsurface is itself a [`Facet`]: a
 /// `Microsurface<N, Microsurface<M, F>>` has bi-scale roughness.
 ///
-/// As a [`Bsdf`]:
+/// As a [`Bsdf`](crate::bsdf::Bsdf):
 /// - `eval(wi, wo)` is an unbiased estimate of `f(wi, wo) |wo.z|` from one walk with next-event
 ///   estimation at every hit;
 /// - `sample(wi)` returns the exit direction of one walk with its throughput as `weight`;
-///   its `pdf` field is filled by one [`Bsdf::pdf`] estimate (a second walk);
+///   its `pdf` field is filled by one [`Bsdf::pdf`](crate::bsdf::Bsdf::pdf) estimate (a second walk);
 /// - `pdf(wi, wo)` is an unbiased estimate of the density of directions `sample` returns: the
 ///   same next-event estimation with each facet's sampling density in place of its BSDF (the
 ///   facet's [`Facet::phase_pdf`]). It is exact in expectation, not pointwise: an estimate may be
@@ -105,7 +104,7 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
     }
 
     /// The exit of one random walk from `wi` if its order is selected: the fast core of
-    /// [`Bsdf::sample`] without its pdf estimate.
+    /// [`Bsdf::sample`](crate::bsdf::Bsdf::sample) without its pdf estimate.
     #[inline]
     pub fn sample_walk<R: Rng + ?Sized>(&self, wi: Vec3, rng: &mut R) -> Option<WalkSample> {
         engine::sample_walk(self, wi, rng)
@@ -225,26 +224,7 @@ impl<N: Ndf, F: Facet> Walker for Microsurface<N, F> {
     }
 }
 
-impl<N: Ndf, F: Facet> Bsdf for Microsurface<N, F> {
-    fn eval<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, rng: &mut R) -> f64 {
-        engine::nee_walk(self, wi, wo, false, rng)
-    }
-
-    fn sample<R: Rng + ?Sized>(&self, wi: Vec3, rng: &mut R) -> Option<BsdfSample> {
-        let s = self.sample_walk(wi, rng)?;
-        let pdf = self.pdf(wi, s.wo, rng);
-        Some(BsdfSample {
-            wo: s.wo,
-            weight: s.weight,
-            pdf,
-            delta: false,
-        })
-    }
-
-    fn pdf<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, rng: &mut R) -> f64 {
-        engine::nee_walk(self, wi, wo, true, rng)
-    }
-}
+engine::walk_bsdf!(Microsurface<N: Ndf, F: Facet>);
 
 #[cfg(test)]
 mod tests {

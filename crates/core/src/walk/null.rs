@@ -4,7 +4,6 @@
 use super::engine::{self, Hit, Start, Target, WalkEnd, WalkSample, Walker, mirrored_depth};
 use super::estimate::{AlbedoEstimate, Estimate, estimators};
 use super::{Facet, MAX_BOUNCES, ScatteringOrders, VisibleNormals};
-use crate::bsdf::{Bsdf, BsdfSample};
 use crate::error::ParamError;
 use crate::math::{Frame, Vec3, safe_sqrt};
 use crate::sphere::SphereNdf;
@@ -13,7 +12,7 @@ use rand_distr::Exp1;
 use std::f64::consts::PI;
 
 /// A microsurface with a full-sphere NDF `S` and facet BSDF `F`, evaluated and sampled by the
-/// null-scattering walk. As a [`Bsdf`] it has the same semantics as
+/// null-scattering walk. As a [`Bsdf`](crate::bsdf::Bsdf) it has the same semantics as
 /// [`Microsurface`](super::Microsurface): `eval` and `pdf` are unbiased one-walk estimates,
 /// `sample` fills `pdf` with one `pdf` estimate. Each `eval` or `pdf` call computes
 /// `sigma(-wo)` by quadrature (tens of microseconds); `eval_many` does it once per direction.
@@ -418,25 +417,6 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
     }
 }
 
-impl<S: SphereNdf, F: Facet> Bsdf for NullMicrosurface<S, F> {
-    fn eval<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, rng: &mut R) -> f64 {
-        engine::nee_walk(self, wi, wo, false, rng)
-    }
-
-    fn sample<R: Rng + ?Sized>(&self, wi: Vec3, rng: &mut R) -> Option<BsdfSample> {
-        let s = self.sample_walk(wi, rng)?;
-        let pdf = self.pdf(wi, s.wo, rng);
-        Some(BsdfSample {
-            wo: s.wo,
-            weight: s.weight,
-            pdf,
-            delta: false,
-        })
-    }
-
-    fn pdf<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, rng: &mut R) -> f64 {
-        engine::nee_walk(self, wi, wo, true, rng)
-    }
-}
+engine::walk_bsdf!(NullMicrosurface<S: SphereNdf, F: Facet>);
 
 estimators!(NullMicrosurface<S: SphereNdf, F: Facet>);
