@@ -165,14 +165,7 @@ pub fn eval_walk_csv<R: Read, W: Write>(
     input: R,
     mut output: W,
 ) -> Result<(), String> {
-    let mut reader = csv::ReaderBuilder::new()
-        .flexible(true)
-        .trim(csv::Trim::All)
-        .from_reader(input);
-    let header = reader
-        .headers()
-        .map_err(|e| format!("reading the header: {e}"))?
-        .clone();
+    let (mut reader, header) = open_csv(input)?;
     if header.iter().any(|h| h == STDERR_COLUMN) {
         return Err(format!("the input already has a column {STDERR_COLUMN}"));
     }
@@ -247,14 +240,8 @@ fn parse_pair(
     Ok((wi, wo))
 }
 
-/// Reads direction pairs as CSV from `input` and writes them with `f_cos` appended to
-/// `output`. Fails on the first bad row with a message naming its line (and field); then
-/// nothing is written, so a failed run never leaves a partial table behind.
-pub fn eval_csv<R: Read, W: Write>(
-    bsdf: &RoughDielectric<AnyNdf>,
-    input: R,
-    mut output: W,
-) -> Result<(), String> {
+/// A CSV reader over `input` (rows may differ in length, fields are trimmed) and its header.
+fn open_csv<R: Read>(input: R) -> Result<(csv::Reader<R>, csv::StringRecord), String> {
     let mut reader = csv::ReaderBuilder::new()
         .flexible(true)
         .trim(csv::Trim::All)
@@ -263,6 +250,18 @@ pub fn eval_csv<R: Read, W: Write>(
         .headers()
         .map_err(|e| format!("reading the header: {e}"))?
         .clone();
+    Ok((reader, header))
+}
+
+/// Reads direction pairs as CSV from `input` and writes them with `f_cos` appended to
+/// `output`. Fails on the first bad row with a message naming its line (and field); then
+/// nothing is written, so a failed run never leaves a partial table behind.
+pub fn eval_csv<R: Read, W: Write>(
+    bsdf: &RoughDielectric<AnyNdf>,
+    input: R,
+    mut output: W,
+) -> Result<(), String> {
+    let (mut reader, header) = open_csv(input)?;
     let index = column_indices(&header)?;
     let mut writer = csv::Writer::from_writer(Vec::new());
     let write_err = |e: csv::Error| format!("writing output: {e}");

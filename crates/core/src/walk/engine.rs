@@ -135,6 +135,19 @@ pub(crate) fn mirrored_depth(t: f64) -> f64 {
     }
 }
 
+/// Validates a safety cap on scattering events per walk: at least 1, and below `u32::MAX`
+/// (which the walk reserves as "no last order").
+pub(crate) fn check_max_bounces(max_bounces: u32) -> Result<u32, crate::error::ParamError> {
+    if max_bounces == 0 || max_bounces == u32::MAX {
+        return Err(crate::error::ParamError::OutOfRange {
+            name: "max_bounces",
+            value: f64::from(max_bounces),
+            expected: "in [1, 2^32 - 2]",
+        });
+    }
+    Ok(max_bounces)
+}
+
 /// A random walk on a microsurface, as the estimators use it.
 pub(crate) trait Walker: Sync {
     /// The selected scattering orders.

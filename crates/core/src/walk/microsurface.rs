@@ -64,15 +64,8 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
     /// walk (default [`MAX_BOUNCES`]); walks that reach it end as [`WalkEnd::Truncated`] and the
     /// estimators report the flux they drop. For tests of that accounting: real paths need no cap.
     pub fn with_max_bounces(self, max_bounces: u32) -> Result<Self, ParamError> {
-        if max_bounces == 0 || max_bounces == u32::MAX {
-            return Err(ParamError::OutOfRange {
-                name: "max_bounces",
-                value: f64::from(max_bounces),
-                expected: "in [1, 2^32 - 2]",
-            });
-        }
         Ok(Self {
-            max_bounces,
+            max_bounces: engine::check_max_bounces(max_bounces)?,
             ..self
         })
     }

@@ -248,15 +248,8 @@ impl<S: SphereNdf, F: Facet> NullMicrosurface<S, F> {
     /// The same microsurface with another safety cap on real scattering events per walk (see
     /// [`Microsurface::with_max_bounces`](super::Microsurface::with_max_bounces)).
     pub fn with_max_bounces(self, max_bounces: u32) -> Result<Self, ParamError> {
-        if max_bounces == 0 || max_bounces == u32::MAX {
-            return Err(ParamError::OutOfRange {
-                name: "max_bounces",
-                value: f64::from(max_bounces),
-                expected: "in [1, 2^32 - 2]",
-            });
-        }
         Ok(Self {
-            max_bounces,
+            max_bounces: engine::check_max_bounces(max_bounces)?,
             ..self
         })
     }
