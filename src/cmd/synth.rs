@@ -1,15 +1,16 @@
 //! `stfit synth`: write synthetic measurements of known truth in the data format.
 
-use std::fs::OpenOptions;
-use std::io::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use stfit_fit::synth::{HEADER, SynthSpec, parse_angle_list, write_csv};
-use stfit_fit::{ModelKind, ModelParams, Scattering};
+use stfit_core::ScatteringOrders;
+use stfit_fit::synth::{SynthSpec, parse_angle_list, write_csv, write_file};
+use stfit_fit::{DEFAULT_ETA, DEFAULT_WALKS, Gamma, Model, ModelKind, SynthError};
 
-use super::fit::{ScatteringArg, masking as fit_masking};
-use super::{CmdError, CmdResult, MaskingArg, check_eta_arg, print_stdout};
+use super::{
+    CmdResult, MaskingArg, OrdersArg, Retired, check_eta_arg, failed, masking_of, print_stdout,
+    usage,
+};
 
 /// Arguments of `stfit synth`.
 #[derive(Debug, Clone, Args)]
@@ -50,23 +51,19 @@ pub struct SynthArgs {
     #[arg(long, value_name = "LIST", default_value = "106:254:2")]
     pub theta_o: String,
     /// Relative index of refraction of the glass.
-    #[arg(
-        long,
-        value_name = "E",
-        default_value_t = 1.51,
-        allow_negative_numbers = true
-    )]
+    #[arg(long, value_name = "E", default_value_t = DEFAULT_ETA, allow_negative_numbers = true)]
     pub eta: f64,
-    /// Smith masking-shadowing form [default: separable; correlated, the only one allowed, with
-    /// --scattering multiple].
+    /// Smith masking-shadowing form [default: separable for --orders single; correlated, the
+    /// only one allowed, for --orders all].
     #[arg(long, value_enum)]
     pub masking: Option<MaskingArg>,
-    /// Scattering orders: `multiple` adds the random walk's orders >= 2 (--walks per incidence
-    /// angle, seeded with --seed) to the height-correlated single-scattering BTDF.
-    #[arg(long, value_enum, default_value_t = ScatteringArg::Single)]
-    pub scattering: ScatteringArg,
-    /// Random walks per incidence angle (--scattering multiple).
-    #[arg(long, value_name = "N", default_value_t = 100_000)]
+    /// Scattering orders: single, or all (the random walk's orders >= 2, --walks per incidence
+    /// direction seeded with --seed, added to the height-correlated single-scattering BTDF, as
+    /// the fit of --orders all models it).
+    #[arg(long, value_enum, default_value_t = OrdersArg::Single)]
+    pub orders: OrdersArg,
+    /// Random walks per incidence direction (--orders all).
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_WALKS)]
     pub walks: u64,
     /// Sample name written in the sample column.
     #[arg(long, value_name = "NAME", default_value = "synthetic")]
@@ -78,6 +75,8 @@ pub struct SynthArgs {
     /// instead of replacing it, to put several samples in one file.
     #[arg(long, requires = "out")]
     pub append: bool,
+    #[command(flatten)]
+    pub retired: Retired,
 }
 
 /// `stfit synth --model`.
@@ -98,60 +97,60 @@ impl From<SynthModelArg> for ModelKind {
     }
 }
 
-/// Runs `stfit synth`.
+/// Runs `stfit synth`. Invalid values of the model and the grid are usage errors (exit 2);
+/// a file that cannot be written or appended to is a failure (1).
 pub fn run(args: SynthArgs) -> CmdResult {
-    let angles = |flag: &str, text: &str| {
-        parse_angle_list(text).map_err(|e| CmdError::Usage(format!("{flag}: {e}")))
-    };
+    args.retired.check()?;
+    let angles =
+        |flag: &str, text: &str| parse_angle_list(text).map_err(|e| usage(format!("{flag}: {e}")));
     let kind = ModelKind::from(args.model);
-    let masking = fit_masking(args.scattering, args.masking)?;
-    if args.scattering == ScatteringArg::Multiple && args.walks == 0 {
-        return Err(CmdError::Usage(
-            "--walks must be a positive number of walks, got 0".into(),
+    let orders = ScatteringOrders::from(args.orders);
+    if orders == ScatteringOrders::Multiple {
+        return Err(usage(
+            "--orders multiple (orders >= 2 only) models no measurement: synthesise --orders \
+             single or all",
         ));
     }
+    let masking = masking_of(orders, args.masking)?;
+    let walks = orders == ScatteringOrders::All;
     let spec = SynthSpec {
-        params: ModelParams {
+        model: Model {
             kind,
             alpha: args.alpha,
-            gamma: args.gamma.unwrap_or(f64::NAN),
+            gamma: args.gamma.map_or(Gamma::NotApplicable, Gamma::Fixed),
             scale: args.scale,
+            eta: check_eta_arg(args.eta)?,
+            masking,
+            orders,
+            walks: walks.then_some(args.walks),
+            seed: walks.then_some(args.seed),
         },
-        gamma_given: args.gamma.is_some(),
-        eta: check_eta_arg(args.eta)?,
-        masking: masking.into(),
-        scattering: match args.scattering {
-            ScatteringArg::Single => Scattering::Single,
-            ScatteringArg::Multiple => Scattering::Multiple,
-        },
-        walks: args.walks,
         theta_i_deg: angles("--theta-i", &args.theta_i)?,
         theta_o_deg: angles("--theta-o", &args.theta_o)?,
         noise: args.noise,
         seed: args.seed,
         name: args.sample.clone(),
     };
-    let sample = spec
-        .sample()
-        .map_err(|e| CmdError::Usage(format!("synth: {e}")))?;
+    let sample = spec.sample().map_err(|e| usage(format!("synth: {e}")))?;
 
     let gamma = args
         .gamma
         .map_or(String::new(), |g| format!(" --gamma {g}"));
-    let (scattering_flags, model_line) = match args.scattering {
-        ScatteringArg::Single => (
-            String::new(),
-            "single-scattering L = scale f_t cos(theta_i) / eta^2",
-        ),
-        ScatteringArg::Multiple => (
-            format!(" --scattering multiple --walks {}", args.walks),
+    let (orders_flags, model_line) = if walks {
+        (
+            format!(" --orders all --walks {}", args.walks),
             "all-orders L = scale (f_single + f_multi) cos(theta_i) / eta^2, f_multi by the \
              random walk",
-        ),
+        )
+    } else {
+        (
+            String::new(),
+            "single-scattering L = scale f_t cos(theta_i) / eta^2",
+        )
     };
     let comment = format!(
         "stfit {} synth --model {} --alpha {}{gamma} --scale {} --noise {} --seed {} \
-         --theta-i {} --theta-o {} --eta {} --masking {}{scattering_flags} --sample {}\n\
+         --theta-i {} --theta-o {} --eta {} --masking {}{orders_flags} --sample {}\n\
          {model_line} with noise max(0, L (1 + noise z))",
         env!("CARGO_PKG_VERSION"),
         kind.name(),
@@ -165,71 +164,20 @@ pub fn run(args: SynthArgs) -> CmdResult {
         masking.name(),
         args.sample,
     );
-    let write_error = |path: &Path, e: std::io::Error| {
-        CmdError::Failed(format!("{}: cannot write: {e}", path.display()))
-    };
-    match (&args.out, args.append) {
-        (Some(path), true) => {
-            let header = !path.exists();
-            if !header {
-                check_header(path)?;
-            }
-            let mut file = OpenOptions::new()
-                .create(true)
-                .append(true)
-                .open(path)
-                .map_err(|e| write_error(path, e))?;
-            let mut buf = Vec::new();
-            write_csv(&mut buf, &[sample], header, Some(&comment))
-                .and_then(|()| file.write_all(&buf))
-                .map_err(|e| write_error(path, e))
+    match &args.out {
+        Some(path) => {
+            write_file(path, &[sample], Some(&comment), args.append).map_err(|e| match e {
+                SynthError::Append { .. } | SynthError::Io { .. } | SynthError::Load(_) => {
+                    failed(e)
+                }
+                other => usage(other),
+            })
         }
-        (Some(path), false) => {
+        None => {
             let mut buf = Vec::new();
             write_csv(&mut buf, &[sample], true, Some(&comment))
-                .and_then(|()| std::fs::write(path, &buf))
-                .map_err(|e| write_error(path, e))
-        }
-        (None, _) => {
-            let mut buf = Vec::new();
-            write_csv(&mut buf, &[sample], true, Some(&comment))
-                .map_err(|e| CmdError::Failed(format!("cannot format the rows: {e}")))?;
+                .map_err(|e| failed(format!("cannot format the rows: {e}")))?;
             print_stdout(&String::from_utf8_lossy(&buf))
         }
-    }
-}
-
-/// Checks that an existing file to append to starts (after comments and blank lines) with the
-/// header that `synth` writes, so that the appended rows belong to its columns.
-fn check_header(path: &Path) -> CmdResult {
-    let bytes = std::fs::read(path)
-        .map_err(|e| CmdError::Failed(format!("{}: cannot read: {e}", path.display())))?;
-    let text = String::from_utf8_lossy(bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&bytes));
-    let expected = HEADER.join(",");
-    let found = text
-        .lines()
-        .enumerate()
-        .find(|(_, l)| !l.trim().is_empty() && !l.starts_with('#'));
-    match found {
-        Some((_, line)) if line.trim() == expected => {
-            if text.ends_with('\n') {
-                Ok(())
-            } else {
-                Err(CmdError::Failed(format!(
-                    "{}: cannot append: the file does not end with a line break",
-                    path.display()
-                )))
-            }
-        }
-        Some((i, line)) => Err(CmdError::Failed(format!(
-            "{}:{}: cannot append: the header is '{}', synth writes '{expected}'",
-            path.display(),
-            i + 1,
-            line.trim()
-        ))),
-        None => Err(CmdError::Failed(format!(
-            "{}: cannot append: the file has no header line",
-            path.display()
-        ))),
     }
 }

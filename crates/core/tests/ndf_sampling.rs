@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use stfit_core::Vec3;
 use stfit_core::math::{radians, spherical_direction};
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, Ndf, StudentT};
-use stfit_core::validate::{SphereBins, bonferroni, chi_square};
+use stfit_validate::{SphereBins, bonferroni, chi_square};
 
 const ALPHAS: [f64; 4] = [0.05, 0.3, 1.0, 2.0];
 const GAMMAS: [f64; 5] = [1.6, 2.0, 3.0, 10.0, 40.0];

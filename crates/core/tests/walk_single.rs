@@ -2,9 +2,10 @@
 //! masking, reciprocity of `eval`, and determinism of the batch estimator.
 
 use stfit_core::Vec3;
-use stfit_core::bsdf::{Bsdf, Masking, RoughDielectric};
+use stfit_core::bsdf::{AnalyticBsdf, Bsdf, Masking, RoughDielectric};
 use stfit_core::math::spherical_direction;
 use stfit_core::ndf::{AnyNdf, Ggx, Ndf};
+use stfit_core::walk::Estimator;
 use stfit_core::walk::{DielectricFacet, Estimate, Microsurface, ScatteringOrders};
 
 mod walk_cases;

@@ -2,17 +2,17 @@
 //! local minimisation over the shape, and heteroscedasticity-robust standard errors (sandwich)
 //! at the optimum.
 //!
-//! With `Scattering::Single` the model is Walter et al.'s analytic single-scattering BTDF with
-//! the masking of `FitOptions::masking`. With `Scattering::Multiple` it is
-//! `f = f_single + f_multi`: `f_single` the analytic single-scattering BTDF with
-//! height-correlated masking (exactly the random walk's order 1 term; `FitOptions::masking` is
-//! ignored) and `f_multi` the order >= 2 estimate of `FitOptions::walk_samples` random walks per
-//! incidence angle ([`MultipleGeometry`]), with a fixed seed per incidence angle for every
-//! evaluation (common random numbers), so the objective is a deterministic, piecewise smooth
-//! function of the parameters. Nelder-Mead suits it; L-BFGS works but is not recommended (its
-//! finite-difference gradients see the jumps). The search starts from the optimum of the same
-//! model's single-scattering fit (multiple scattering is a correction to it) instead of the
-//! starting grid. The standard errors do not include the Monte Carlo error of `f_multi`.
+//! The model is [`Model`]'s ([`crate::forward`] evaluates it). With orders `single` it is
+//! Walter et al.'s analytic single-scattering BTDF with the masking of `FitOptions::masking`.
+//! With orders `all` it is `f = f_single + f_multi`: `f_single` the analytic single-scattering
+//! BTDF with height-correlated masking (exactly the random walk's order 1 term) and `f_multi`
+//! the orders >= 2 estimate of `FitOptions::walks` random walks per incident direction, with a
+//! fixed seed per direction for every evaluation (common random numbers), so the objective is
+//! a deterministic, piecewise smooth function of the parameters. Nelder-Mead suits it; L-BFGS
+//! works but is not recommended (its finite-difference gradients see the jumps). The search
+//! starts from the optimum of the same model's single-scattering fit (multiple scattering is a
+//! correction to it) instead of the starting grid. The standard errors do not include the Monte
+//! Carlo error of `f_multi`.
 //!
 //! Search coordinates: `x0 = ln(alpha)` and, for Student-T with free gamma,
 //! `x1 = ln(gamma - 3/2)`, so every point of the search space is a valid model. They are
@@ -38,15 +38,24 @@
 //! systematically (a stray-light floor no model reproduces); for equal noise it agrees with the
 //! classical form up to sampling error.
 
+use std::path::PathBuf;
+
 use stfit_core::ParamError;
 use stfit_core::bsdf::Masking;
-use stfit_core::error::{check_eta, check_gamma};
+use stfit_core::error::check_gamma;
+use stfit_core::walk::ScatteringOrders;
 use thiserror::Error;
 
-use crate::data::Sample;
-use crate::model::{FitOptions, FitResult, Loss, ModelKind, ModelParams, ModelSpec, Scattering};
-use crate::objective::{Geometry, MultipleGeometry, Projected, signed_sqrt};
+use crate::conventions::{
+    THETA_I_RANGE, THETA_O_RANGE, pair_from_deg, theta_i_in_range, theta_o_in_range,
+};
+use crate::data::{Dataset, Sample};
+use crate::forward::Forward;
+use crate::loss::{Projected, Projection, signed_sqrt};
+use crate::model::{Gamma, Model, ModelKind, ModelSpec, all_models};
 use crate::optimize::minimize;
+use crate::options::{FitOptions, Loss};
+use crate::result::FitResult;
 
 /// Smallest roughness the search reaches.
 pub const ALPHA_MIN: f64 = 1e-3;
@@ -106,13 +115,23 @@ pub enum FitError {
     },
 }
 
+/// A fit of one sample of a dataset that failed, with where.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("{}: sample '{sample}', model {model}: {error}", file.display())]
+pub struct DatasetFitError {
+    /// The data file.
+    pub file: PathBuf,
+    pub sample: String,
+    /// The model, as [`ModelSpec::label`] names it.
+    pub model: String,
+    pub error: Box<FitError>,
+}
+
 /// A sample checked and precomputed once, fitted by several models.
 #[derive(Clone)]
 struct Prepared<'a> {
     sample: &'a Sample,
-    geom: Geometry,
-    /// The random walks of the order >= 2 term, for `Scattering::Multiple`.
-    multi: Option<MultipleGeometry>,
+    forward: Forward,
     /// Measured `L` of the usable points.
     l: Vec<f64>,
     w: Vec<f64>,
@@ -120,18 +139,13 @@ struct Prepared<'a> {
 
 impl<'a> Prepared<'a> {
     fn new(sample: &'a Sample, opts: &FitOptions) -> Result<Self, FitError> {
-        check_eta(opts.eta)?;
-        if opts.scattering == Scattering::Multiple && opts.walk_samples == 0 {
-            return Err(FitError::InvalidSpec(
-                "multiple scattering needs at least one random walk per incidence angle".into(),
-            ));
-        }
+        opts.check()?;
         let invalid = |index: usize, reason: String| FitError::InvalidData {
             sample: sample.name.clone(),
             index,
             reason,
         };
-        let mut angles = Vec::with_capacity(sample.points.len());
+        let mut pairs = Vec::with_capacity(sample.points.len());
         let (mut l, mut w) = (Vec::new(), Vec::new());
         for (index, p) in sample.points.iter().enumerate() {
             if !(p.weight.is_finite() && p.weight >= 0.0) {
@@ -146,118 +160,103 @@ impl<'a> Prepared<'a> {
             if !p.l.is_finite() {
                 return Err(invalid(index, format!("L must be finite, got {}", p.l)));
             }
-            if !(p.theta_i_deg >= 0.0 && p.theta_i_deg < 90.0) {
-                return Err(invalid(
-                    index,
-                    format!("theta_i must be in [0, 90) degrees, got {}", p.theta_i_deg),
-                ));
-            }
-            if !(p.theta_o_deg > 90.0 && p.theta_o_deg < 270.0) {
+            if !theta_i_in_range(p.theta_i_deg) {
                 return Err(invalid(
                     index,
                     format!(
-                        "theta_o must be in (90, 270) degrees, got {}",
+                        "theta_i must be in {THETA_I_RANGE} degrees, got {}",
+                        p.theta_i_deg
+                    ),
+                ));
+            }
+            if !theta_o_in_range(p.theta_o_deg) {
+                return Err(invalid(
+                    index,
+                    format!(
+                        "theta_o must be in {THETA_O_RANGE} degrees, got {}",
                         p.theta_o_deg
                     ),
                 ));
             }
-            angles.push((p.theta_i_deg, p.theta_o_deg));
+            pairs.push(pair_from_deg(p.theta_i_deg, p.theta_o_deg));
             l.push(p.l);
             w.push(p.weight);
         }
-        let geom = Geometry::new(angles.iter().copied(), opts.eta)?;
-        let multi = match opts.scattering {
-            Scattering::Single => None,
-            Scattering::Multiple => Some(MultipleGeometry::new(
-                angles,
-                opts.eta,
-                opts.walk_samples as u64,
-                opts.seed,
-            )?),
-        };
+        let forward = Forward::in_plane(
+            &pairs,
+            opts.eta,
+            opts.masking,
+            opts.orders,
+            opts.walks,
+            opts.seed,
+        )?;
         Ok(Self {
             sample,
-            geom,
-            multi,
+            forward,
             l,
             w,
         })
     }
 }
 
-/// The role of gamma in a model specification.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Gamma {
-    /// Beckmann and GGX have no gamma.
-    Unused,
-    /// Student-T with gamma held at this value.
-    Fixed(f64),
-    /// Student-T with gamma fitted.
-    Free,
-}
-
 /// The shape parameters searched for one model specification.
 #[derive(Debug, Clone, Copy)]
 struct Shape {
     kind: ModelKind,
-    gamma: Gamma,
+    gamma: Gamma<()>,
 }
 
 impl Shape {
     fn new(spec: ModelSpec) -> Result<Self, FitError> {
-        match (spec.kind, spec.gamma_fixed) {
-            (ModelKind::StudentT, Some(g)) => Ok(Self {
-                kind: spec.kind,
-                gamma: Gamma::Fixed(check_gamma(g)?),
-            }),
-            (ModelKind::StudentT, None) => Ok(Self {
-                kind: spec.kind,
-                gamma: Gamma::Free,
-            }),
-            (kind, Some(_)) => Err(FitError::InvalidSpec(format!(
-                "a fixed gamma applies to student-t only, not {}",
-                kind.name()
-            ))),
-            (kind, None) => Ok(Self {
-                kind,
-                gamma: Gamma::Unused,
-            }),
+        if let Gamma::Fixed(g) = spec.gamma() {
+            check_gamma(g)?;
         }
+        Ok(Self {
+            kind: spec.kind(),
+            gamma: spec.gamma(),
+        })
     }
 
     /// Number of searched coordinates.
     fn dims(&self) -> usize {
-        if self.gamma == Gamma::Free { 2 } else { 1 }
+        if self.gamma.is_free() { 2 } else { 1 }
     }
 
     /// `(alpha, gamma)` of search coordinates, clamped to the search box.
-    fn params(&self, x: &[f64]) -> (f64, f64) {
+    fn params(&self, x: &[f64]) -> (f64, Gamma) {
         let alpha = x[0].clamp(ALPHA_MIN.ln(), ALPHA_MAX.ln()).exp();
         let gamma = match self.gamma {
-            Gamma::Unused => f64::NAN,
-            Gamma::Fixed(g) => g,
-            Gamma::Free => {
+            Gamma::NotApplicable => Gamma::NotApplicable,
+            Gamma::Fixed(g) => Gamma::Fixed(g),
+            Gamma::Free(()) => Gamma::Free(
                 1.5 + x[1]
                     .clamp(GAMMA_EXCESS_MIN.ln(), GAMMA_EXCESS_MAX.ln())
-                    .exp()
-            }
+                    .exp(),
+            ),
         };
         (alpha, gamma)
     }
 
-    fn coords(&self, alpha: f64, gamma: f64) -> Vec<f64> {
-        match self.gamma {
-            Gamma::Free => vec![alpha.ln(), (gamma - 1.5).ln()],
-            Gamma::Unused | Gamma::Fixed(_) => vec![alpha.ln()],
+    fn coords(&self, alpha: f64, gamma: Gamma) -> Vec<f64> {
+        match gamma {
+            Gamma::Free(g) => vec![alpha.ln(), (g - 1.5).ln()],
+            Gamma::NotApplicable | Gamma::Fixed(_) => vec![alpha.ln()],
         }
     }
 
-    fn model(&self, alpha: f64, gamma: f64, scale: f64) -> ModelParams {
-        ModelParams {
+    /// The model at `(alpha, gamma, scale)` with the physics of `opts`.
+    fn model(&self, alpha: f64, gamma: Gamma, scale: f64, opts: &FitOptions) -> Model {
+        let walks = opts.orders == ScatteringOrders::All;
+        Model {
             kind: self.kind,
             alpha,
             gamma,
             scale,
+            eta: opts.eta,
+            masking: opts.masking,
+            orders: opts.orders,
+            walks: walks.then_some(opts.walks),
+            seed: walks.then_some(opts.seed),
         }
     }
 }
@@ -272,21 +271,15 @@ struct Evaluator<'p, 'a> {
 
 impl Evaluator<'_, '_> {
     /// Unit-scale model values at `(alpha, gamma)`.
-    fn unit_model(&self, alpha: f64, gamma: f64, m: &mut Vec<f64>) -> Result<(), ParamError> {
-        let ndf = self.shape.model(alpha, gamma, 1.0).ndf()?;
-        match &self.prep.multi {
-            None => self.prep.geom.unit_model(&ndf, self.opts.masking, m),
-            Some(multi) => {
-                self.prep.geom.unit_model(&ndf, Masking::Correlated, m);
-                multi.add_unit_model(&ndf, m)?;
-            }
-        }
+    fn unit_model(&self, alpha: f64, gamma: Gamma, m: &mut Vec<f64>) -> Result<(), FitError> {
+        let ndf = self.shape.model(alpha, gamma, 1.0, &self.opts).ndf()?;
+        self.prep.forward.unit_model(&ndf, m)?;
         Ok(())
     }
 
     /// Reduced cost and best amplitude at `(alpha, gamma)`.
-    fn project(&self, alpha: f64, gamma: f64) -> Result<crate::objective::Projection, ParamError> {
-        let mut m = Vec::with_capacity(self.prep.geom.len());
+    fn project(&self, alpha: f64, gamma: Gamma) -> Result<Projection, FitError> {
+        let mut m = Vec::with_capacity(self.prep.forward.len());
         self.unit_model(alpha, gamma, &mut m)?;
         Ok(self.proj.project(&m, &mut Vec::with_capacity(m.len())))
     }
@@ -301,10 +294,10 @@ impl Evaluator<'_, '_> {
     /// Starting points: the grid points whose cost is below that of all grid neighbours, best
     /// first, at most [`MAX_STARTS`].
     fn starts(&self) -> Vec<Vec<f64>> {
-        let gammas: &[f64] = match &self.shape.gamma {
-            Gamma::Unused => &[f64::NAN],
-            Gamma::Fixed(g) => std::slice::from_ref(g),
-            Gamma::Free => &GAMMA_GRID,
+        let gammas: Vec<Gamma> = match self.shape.gamma {
+            Gamma::NotApplicable => vec![Gamma::NotApplicable],
+            Gamma::Fixed(g) => vec![Gamma::Fixed(g)],
+            Gamma::Free(()) => GAMMA_GRID.iter().map(|&g| Gamma::Free(g)).collect(),
         };
         let (na, ng) = (ALPHA_GRID.len(), gammas.len());
         let costs: Vec<f64> = gammas
@@ -350,18 +343,6 @@ pub fn fit_sample(
     fit_prepared(&prep, shape, opts)
 }
 
-/// The four models of `--model all`, in this order: Beckmann, GGX, Student-T with gamma fixed
-/// at 3, Student-T with free gamma.
-pub fn all_models() -> [ModelSpec; 4] {
-    let spec = |kind, gamma_fixed| ModelSpec { kind, gamma_fixed };
-    [
-        spec(ModelKind::Beckmann, None),
-        spec(ModelKind::Ggx, None),
-        spec(ModelKind::StudentT, Some(3.0)),
-        spec(ModelKind::StudentT, None),
-    ]
-}
-
 /// Fits the four models of [`all_models`] to one sample.
 pub fn fit_all(sample: &Sample, opts: &FitOptions) -> Result<Vec<FitResult>, FitError> {
     let prep = Prepared::new(sample, opts)?;
@@ -371,23 +352,38 @@ pub fn fit_all(sample: &Sample, opts: &FitOptions) -> Result<Vec<FitResult>, Fit
         .collect()
 }
 
-/// Model values `L` at `(theta_i_deg, theta_o_deg)` pairs in the data convention, for plots:
-/// the same numbers as [`ModelParams::l_single`] (single scattering) or
-/// [`ModelParams::l_multiple_batch`] (multiple scattering), computed in one batch.
-pub fn predict(
-    params: &ModelParams,
-    angles: &[(f64, f64)],
+/// Fits every model of `specs` to every sample of `data` (in file order, then in the order of
+/// `specs`), recording the data file in each result, and calls `progress(done, total)` after
+/// each fit. Stops at the first fit that fails, saying which.
+pub fn fit_dataset(
+    data: &Dataset,
+    specs: &[ModelSpec],
     opts: &FitOptions,
-) -> Result<Vec<f64>, FitError> {
-    if opts.scattering == Scattering::Multiple {
-        return Ok(params.l_multiple_batch(
-            angles,
-            opts.eta,
-            opts.walk_samples as u64,
-            opts.seed,
-        )?);
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<FitResult>, DatasetFitError> {
+    let total = data.samples.len() * specs.len();
+    let mut fits = Vec::with_capacity(total);
+    for sample in &data.samples {
+        let fail = |spec: &ModelSpec, error| DatasetFitError {
+            file: data.source.clone(),
+            sample: sample.name.clone(),
+            model: spec.label(),
+            error: Box::new(error),
+        };
+        let prep = match Prepared::new(sample, opts) {
+            Ok(p) => p,
+            Err(e) => return Err(fail(&specs[0], e)),
+        };
+        for spec in specs {
+            let mut fit = Shape::new(*spec)
+                .and_then(|shape| fit_prepared(&prep, shape, opts))
+                .map_err(|e| fail(spec, e))?;
+            fit.data = Some(data.source.display().to_string());
+            fits.push(fit);
+            progress(fits.len(), total);
+        }
     }
-    Ok(params.l_single_batch(angles, opts.eta, opts.masking)?)
+    Ok(fits)
 }
 
 fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitResult, FitError> {
@@ -417,23 +413,22 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
     let mut best: Option<crate::optimize::Minimum> = None;
     let mut iterations = 0;
     let mut last_err = None;
-    let starts = match opts.scattering {
-        Scattering::Single => eval.starts(),
+    let starts = if prep.forward.has_walks() {
         // Multiple scattering is a correction to single scattering: start from the optimum of
         // the same model's single-scattering fit (height-correlated masking, the walk's order 1).
-        Scattering::Multiple => {
-            let single = FitOptions {
-                scattering: Scattering::Single,
-                masking: Masking::Correlated,
-                ..*opts
-            };
-            let prep_single = Prepared {
-                multi: None,
-                ..prep.clone()
-            };
-            let r = fit_prepared(&prep_single, shape, &single)?;
-            vec![shape.coords(r.alpha, r.gamma.unwrap_or(f64::NAN))]
-        }
+        let single = FitOptions {
+            orders: ScatteringOrders::Single,
+            masking: Masking::Correlated,
+            ..*opts
+        };
+        let prep_single = Prepared {
+            forward: prep.forward.single_part(),
+            ..prep.clone()
+        };
+        let r = fit_prepared(&prep_single, shape, &single)?;
+        vec![shape.coords(r.model.alpha, r.model.gamma)]
+    } else {
+        eval.starts()
     };
     for x0 in starts {
         match minimize(|x| eval.cost(x), &x0, opts.optimizer) {
@@ -471,26 +466,24 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
         / n as f64)
         .sqrt();
     let stderr = standard_errors(&eval, alpha, gamma, scale, &m)?;
-    let fitted_gamma = shape.kind == ModelKind::StudentT;
+    let known = |se: f64| se.is_finite().then_some(se);
     Ok(FitResult {
         sample: sample.clone(),
-        model: shape.kind,
-        alpha,
-        gamma: fitted_gamma.then_some(gamma),
-        gamma_fixed: matches!(shape.gamma, Gamma::Fixed(_)),
-        scale,
+        model: shape.model(alpha, gamma, scale, opts),
+        loss: opts.loss,
+        optimizer: opts.optimizer,
         rmse_sqrt_l,
         n_points: n,
-        alpha_stderr: stderr[0],
-        gamma_stderr: fitted_gamma.then(|| {
-            if shape.gamma != Gamma::Free {
-                0.0
-            } else {
-                stderr[1]
-            }
-        }),
-        scale_stderr: stderr[stderr.len() - 1],
+        alpha_stderr: known(stderr[0]),
+        gamma_stderr: if shape.gamma.is_free() {
+            known(stderr[1])
+        } else {
+            None
+        },
+        scale_stderr: known(stderr[stderr.len() - 1]),
         iterations,
+        data: None,
+        stfit_version: env!("CARGO_PKG_VERSION").to_owned(),
     })
 }
 
@@ -499,10 +492,10 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
 fn standard_errors(
     eval: &Evaluator,
     alpha: f64,
-    gamma: f64,
+    gamma: Gamma,
     scale: f64,
     m: &[f64],
-) -> Result<Vec<f64>, ParamError> {
+) -> Result<Vec<f64>, FitError> {
     let loss = eval.opts.loss;
     let t = |x: f64| Projected::transform(loss, x);
     let n = m.len();
@@ -510,7 +503,7 @@ fn standard_errors(
 
     // Columns of J (up to sign): d T(scale m_j) / d theta_k, times sqrt(w_j).
     let mut cols: Vec<Vec<f64>> = Vec::new();
-    let mut fd_column = |a_plus: (f64, f64), a_minus: (f64, f64), h2: f64| {
+    let mut fd_column = |a_plus: (f64, Gamma), a_minus: (f64, Gamma), h2: f64| {
         let (mut mp, mut mm) = (Vec::new(), Vec::new());
         eval.unit_model(a_plus.0, a_plus.1, &mut mp)?;
         eval.unit_model(a_minus.0, a_minus.1, &mut mm)?;
@@ -519,19 +512,24 @@ fn standard_errors(
                 .map(|j| sw[j] * (t(scale * mp[j]) - t(scale * mm[j])) / h2)
                 .collect(),
         );
-        Ok::<(), ParamError>(())
+        Ok::<(), FitError>(())
     };
-    // Under multiple scattering the model is piecewise smooth in the parameters (a walk's
+    // With the walk's orders >= 2 the model is piecewise smooth in the parameters (a walk's
     // discrete choices switch as they change): a wider step averages over those jumps.
-    let rel_step = match eval.opts.scattering {
-        Scattering::Single => 1e-4,
-        Scattering::Multiple => 1e-2,
+    let rel_step = if eval.prep.forward.has_walks() {
+        1e-2
+    } else {
+        1e-4
     };
     let ha = rel_step * alpha;
     fd_column((alpha + ha, gamma), (alpha - ha, gamma), 2.0 * ha)?;
-    if eval.shape.gamma == Gamma::Free {
-        let hg = rel_step * (gamma - 1.5);
-        fd_column((alpha, gamma + hg), (alpha, gamma - hg), 2.0 * hg)?;
+    if let Gamma::Free(g) = gamma {
+        let hg = rel_step * (g - 1.5);
+        fd_column(
+            (alpha, Gamma::Free(g + hg)),
+            (alpha, Gamma::Free(g - hg)),
+            2.0 * hg,
+        )?;
     }
     cols.push(
         (0..n)

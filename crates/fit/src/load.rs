@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
+use crate::conventions::{THETA_I_RANGE, THETA_O_RANGE, theta_i_in_range, theta_o_in_range};
 use crate::data::{Dataset, Measurement, Sample};
 
 /// Name of the optional column holding the sample name.
@@ -121,6 +122,12 @@ pub enum LoadErrorKind {
     /// A sample was requested from a file without a `sample` column.
     #[error("the file has no 'sample' column, so no sample named '{0}' can be selected")]
     NoSampleColumn(String),
+    /// A column that the command writes is already in its input.
+    #[error("is written by stfit; the input must not have it")]
+    Reserved,
+    /// A direction that is not a unit vector.
+    #[error("not a unit vector (norm {norm}); directions must have |norm - 1| <= {tolerance:e}")]
+    NotUnit { norm: f64, tolerance: f64 },
     /// The CSV structure itself is broken.
     #[error("malformed CSV: {0}")]
     Csv(String),
@@ -146,34 +153,17 @@ pub fn load_path(path: &Path) -> Result<Dataset, LoadError> {
 
 /// Parses and validates measurement-file contents; `source` names them in errors.
 pub fn load_bytes(source: &Path, bytes: &[u8]) -> Result<Dataset, LoadError> {
-    let bytes = strip_comments(bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes));
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .flexible(true)
-        .from_reader(bytes.as_slice());
-
-    let mut records = reader.byte_records().filter(|r| match r {
-        Ok(record) => !is_blank(record),
-        Err(_) => true,
-    });
-    let mut lines = LineCounter::new(&bytes);
-    let csv_error =
-        |e: csv::Error| LoadError::new(source, None, None, LoadErrorKind::Csv(e.to_string()));
-
-    let header_record = match records.next() {
-        None => return Err(LoadError::new(source, Some(1), None, LoadErrorKind::Empty)),
-        Some(record) => record.map_err(csv_error)?,
+    let mut records = read_records(source, bytes)?.into_iter();
+    let Some((header_line, header_record)) = records.next() else {
+        return Err(LoadError::new(source, Some(1), None, LoadErrorKind::Empty));
     };
-    let header_line = lines.line_of(&header_record);
     let header = Header::parse(source, header_line, &header_record)?;
 
     let mut samples: Vec<Sample> = Vec::new();
     let mut index: HashMap<String, usize> = HashMap::new();
     // Line of each sample's first row, to place a sample-wide error.
     let mut first_line: Vec<u64> = Vec::new();
-    for record in records {
-        let record = record.map_err(csv_error)?;
-        let line = lines.line_of(&record);
+    for (line, record) in records {
         let (name, point) = header.row(source, line, &record)?;
         let slot = match index.get(&name) {
             Some(&i) => i,
@@ -211,6 +201,69 @@ pub fn load_bytes(source: &Path, bytes: &[u8]) -> Result<Dataset, LoadError> {
         source: source.to_path_buf(),
         samples,
     })
+}
+
+/// The records of a CSV text as every stfit file is read (the text rules of
+/// `data-format.md`), each with its 1-based line: a UTF-8 byte-order mark skipped, comment
+/// lines (first byte `#`) and blank lines skipped, RFC 4180 quoting. The first record is the
+/// header.
+pub(crate) fn read_records(
+    source: &Path,
+    bytes: &[u8],
+) -> Result<Vec<(u64, csv::ByteRecord)>, LoadError> {
+    let bytes = strip_comments(bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes));
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(bytes.as_slice());
+    let mut lines = LineCounter::new(&bytes);
+    let mut out = Vec::new();
+    for record in reader.byte_records() {
+        let record = record.map_err(|e| {
+            let line = e.position().map(csv::Position::line);
+            LoadError::new(source, line, None, LoadErrorKind::Csv(e.to_string()))
+        })?;
+        if is_blank(&record) {
+            continue;
+        }
+        let line = lines.line_of(&record);
+        out.push((line, record));
+    }
+    Ok(out)
+}
+
+/// The trimmed UTF-8 fields of a record; a field that is not UTF-8 is an error naming its
+/// column, `column(i)` for field `i`.
+pub(crate) fn text_fields<'r>(
+    source: &Path,
+    line: u64,
+    record: &'r csv::ByteRecord,
+    column: impl Fn(usize) -> String,
+) -> Result<Vec<&'r str>, LoadError> {
+    record
+        .iter()
+        .enumerate()
+        .map(|(i, field)| {
+            std::str::from_utf8(field).map(str::trim).map_err(|_| {
+                LoadError::new(source, Some(line), Some(&column(i)), LoadErrorKind::NotUtf8)
+            })
+        })
+        .collect()
+}
+
+/// The header of the file at `path` (its first record, as [`read_records`] reads it) with its
+/// line, or `None` for a file with none.
+pub fn read_header(path: &Path) -> Result<Option<(u64, Vec<String>)>, LoadError> {
+    let bytes = std::fs::read(path)
+        .map_err(|e| LoadError::new(path, None, None, LoadErrorKind::Io(e.to_string())))?;
+    let Some((line, record)) = read_records(path, &bytes)?.into_iter().next() else {
+        return Ok(None);
+    };
+    let fields = text_fields(path, line, &record, |i| format!("header field {}", i + 1))?;
+    Ok(Some((
+        line,
+        fields.into_iter().map(str::to_owned).collect(),
+    )))
 }
 
 /// A record that is one whitespace-only field: an empty or blank line.
@@ -317,18 +370,11 @@ struct Header {
 
 impl Header {
     fn parse(source: &Path, line: u64, record: &csv::ByteRecord) -> Result<Self, LoadError> {
-        let mut names = Vec::with_capacity(record.len());
-        for (i, field) in record.iter().enumerate() {
-            let name = std::str::from_utf8(field).map_err(|_| {
-                LoadError::new(
-                    source,
-                    Some(line),
-                    Some(&format!("header field {}", i + 1)),
-                    LoadErrorKind::NotUtf8,
-                )
-            })?;
-            names.push(name.trim().to_owned());
-        }
+        let names: Vec<String> =
+            text_fields(source, line, record, |i| format!("header field {}", i + 1))?
+                .into_iter()
+                .map(str::to_owned)
+                .collect();
         let found = names.join(", ");
         let find = |wanted: &str| -> Result<Option<usize>, LoadError> {
             let mut hits = names.iter().enumerate().filter(|(_, n)| *n == wanted);
@@ -413,12 +459,7 @@ impl Header {
             ));
         }
         // Every field is checked for UTF-8, including those of unrecognised columns.
-        let mut fields = Vec::with_capacity(record.len());
-        for (i, field) in record.iter().enumerate() {
-            let text = std::str::from_utf8(field)
-                .map_err(|_| err(&self.names[i], LoadErrorKind::NotUtf8))?;
-            fields.push(text.trim());
-        }
+        let fields = text_fields(source, line, record, |i| self.names[i].clone())?;
         if fields.len() < self.len {
             return Err(err(
                 &self.names[fields.len()],
@@ -446,23 +487,23 @@ impl Header {
             }
             let x = parse_finite(fields[i]).map_err(|kind| err(&self.names[i], kind))?;
             if i == self.theta_i {
-                if !(0.0..90.0).contains(&x) {
+                if !theta_i_in_range(x) {
                     return Err(err(
                         COL_THETA_I,
                         LoadErrorKind::AngleOutOfRange {
                             value: x,
-                            range: "[0, 90)",
+                            range: THETA_I_RANGE,
                         },
                     ));
                 }
                 values[0] = x;
             } else if i == self.theta_o {
-                if !(x > 90.0 && x < 270.0) {
+                if !theta_o_in_range(x) {
                     return Err(err(
                         COL_THETA_O,
                         LoadErrorKind::AngleOutOfRange {
                             value: x,
-                            range: "(90, 270)",
+                            range: THETA_O_RANGE,
                         },
                     ));
                 }
@@ -495,7 +536,7 @@ impl Header {
 }
 
 /// Parses a decimal number that must be finite.
-fn parse_finite(text: &str) -> Result<f64, LoadErrorKind> {
+pub(crate) fn parse_finite(text: &str) -> Result<f64, LoadErrorKind> {
     if text.is_empty() {
         return Err(LoadErrorKind::EmptyValue);
     }

@@ -2,17 +2,18 @@
 //! written in the measurement format of `data-format.md`.
 
 use std::io::{self, Write};
+use std::path::Path;
 
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64;
-use stfit_core::ParamError;
-use stfit_core::bsdf::Masking;
 use thiserror::Error;
 
+use crate::conventions::{THETA_I_RANGE, THETA_O_RANGE, theta_i_in_range, theta_o_in_range};
 use crate::data::{Measurement, Sample};
-use crate::load::{COL_L, COL_SAMPLE, COL_THETA_I, COL_THETA_O};
-use crate::model::{ModelKind, ModelParams, Scattering};
+use crate::fit::FitError;
+use crate::load::{COL_L, COL_SAMPLE, COL_THETA_I, COL_THETA_O, LoadError, read_header};
+use crate::model::Model;
 
 /// Most points one synthetic sample may have (guards against a mistyped grid step).
 pub const MAX_POINTS: usize = 1_000_000;
@@ -20,18 +21,12 @@ pub const MAX_POINTS: usize = 1_000_000;
 /// The header line [`write_csv`] writes.
 pub const HEADER: [&str; 4] = [COL_SAMPLE, COL_THETA_I, COL_THETA_O, COL_L];
 
-/// An invalid synthesis request.
-#[derive(Debug, Clone, PartialEq, Error)]
+/// An invalid synthesis request, or a file that cannot be written.
+#[derive(Debug, Error)]
 pub enum SynthError {
-    /// alpha, gamma or eta out of range.
+    /// The true model cannot be evaluated (alpha, gamma, scale, eta, orders, masking, walks).
     #[error(transparent)]
-    Param(#[from] ParamError),
-    /// gamma given for a model that has none, or missing for Student-T.
-    #[error("{0}")]
-    Gamma(&'static str),
-    /// The calibration scale must be finite and > 0.
-    #[error("scale must be finite and > 0, got {0}")]
-    Scale(f64),
+    Model(#[from] FitError),
     /// The noise level must be finite and >= 0.
     #[error("noise must be finite and >= 0, got {0}")]
     Noise(f64),
@@ -45,9 +40,6 @@ pub enum SynthError {
     /// An empty list of angles.
     #[error("no {0} angles given")]
     NoAngles(&'static str),
-    /// A multiple-scattering request that makes no sense (no walks, separable masking).
-    #[error("{0}")]
-    Scattering(&'static str),
     /// Too many points.
     #[error("the grid has {0} points; at most {MAX_POINTS} are allowed")]
     TooManyPoints(usize),
@@ -57,26 +49,21 @@ pub enum SynthError {
          and not start with '#' or whitespace"
     )]
     SampleName(String),
+    /// The file to append to cannot be read, or has another header.
+    #[error(transparent)]
+    Load(#[from] LoadError),
+    #[error("{path}: cannot append: {reason}")]
+    Append { path: String, reason: String },
+    #[error("{path}: cannot write: {source}")]
+    Io { path: String, source: io::Error },
 }
 
 /// What to synthesise: a model, an angle grid and the noise.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SynthSpec {
-    /// The true model. `gamma` is used only by Student-T.
-    pub params: ModelParams,
-    /// Whether `params.gamma` was given (it must be for Student-T and must not be otherwise).
-    pub gamma_given: bool,
-    /// Relative index of the glass.
-    pub eta: f64,
-    /// Smith masking; must be `Correlated` for `Scattering::Multiple` (the random walk is
-    /// height-correlated by construction).
-    pub masking: Masking,
-    /// Single scattering, or all orders (the walk's order >= 2 estimate added to the
-    /// height-correlated single-scattering BTDF, as fitted by `Scattering::Multiple`).
-    pub scattering: Scattering,
-    /// Random walks per incidence angle for `Scattering::Multiple` (> 0 there), seeded with
-    /// `seed`.
-    pub walks: u64,
+    /// The true model: NDF, scale, eta, masking and orders (for orders all, its walks and their
+    /// seed).
+    pub model: Model,
     /// Incidence angles (degrees, [0, 90)); the outer loop of the rows.
     pub theta_i_deg: Vec<f64>,
     /// Transmitted directions (degrees, (90, 270)); the inner loop of the rows.
@@ -92,46 +79,22 @@ pub struct SynthSpec {
 impl SynthSpec {
     /// Checks every parameter, returning the first problem.
     pub fn validate(&self) -> Result<(), SynthError> {
-        let p = &self.params;
-        match (p.kind, self.gamma_given) {
-            (ModelKind::StudentT, false) => {
-                return Err(SynthError::Gamma("student-t needs a gamma (> 3/2)"));
-            }
-            (ModelKind::Beckmann | ModelKind::Ggx, true) => {
-                return Err(SynthError::Gamma(
-                    "gamma is a Student-T parameter; beckmann and ggx take none",
-                ));
-            }
-            _ => {}
-        }
-        // Validates alpha and (for Student-T) gamma.
-        p.ndf()?;
-        stfit_core::error::check_eta(self.eta)?;
-        if !(p.scale.is_finite() && p.scale > 0.0) {
-            return Err(SynthError::Scale(p.scale));
-        }
+        self.model.check()?;
         if !(self.noise.is_finite() && self.noise >= 0.0) {
             return Err(SynthError::Noise(self.noise));
         }
-        if self.scattering == Scattering::Multiple {
-            if self.masking != Masking::Correlated {
-                return Err(SynthError::Scattering(
-                    "multiple scattering is height-correlated by construction: use correlated \
-                     masking",
-                ));
-            }
-            if self.walks == 0 {
-                return Err(SynthError::Scattering(
-                    "multiple scattering needs at least one random walk per incidence angle",
-                ));
-            }
-        }
-        check_angles(COL_THETA_I, &self.theta_i_deg, "[0, 90)", |t| {
-            (0.0..90.0).contains(&t)
-        })?;
-        check_angles(COL_THETA_O, &self.theta_o_deg, "(90, 270)", |t| {
-            t > 90.0 && t < 270.0
-        })?;
+        check_angles(
+            COL_THETA_I,
+            &self.theta_i_deg,
+            THETA_I_RANGE,
+            theta_i_in_range,
+        )?;
+        check_angles(
+            COL_THETA_O,
+            &self.theta_o_deg,
+            THETA_O_RANGE,
+            theta_o_in_range,
+        )?;
         let n = self
             .theta_i_deg
             .len()
@@ -151,10 +114,8 @@ impl SynthSpec {
     }
 
     /// The synthetic sample: for each `theta_i` (outer) and `theta_o` (inner), the model value
-    /// (single scattering, [`ModelParams::l_single`], or all orders,
-    /// [`ModelParams::l_multiple_batch`] with `walks` walks per incidence from `seed`) with
-    /// multiplicative noise `max(0, L (1 + noise z))`, `z ~ N(0, 1)` drawn in row order from
-    /// PCG-64 seeded with `seed`.
+    /// ([`Model::predict`]) with multiplicative noise `max(0, L (1 + noise z))`, `z ~ N(0, 1)`
+    /// drawn in row order from PCG-64 seeded with `seed`.
     pub fn sample(&self) -> Result<Sample, SynthError> {
         self.validate()?;
         let angles: Vec<(f64, f64)> = self
@@ -162,15 +123,7 @@ impl SynthSpec {
             .iter()
             .flat_map(|&ti| self.theta_o_deg.iter().map(move |&to| (ti, to)))
             .collect();
-        let l = match self.scattering {
-            Scattering::Single => angles
-                .iter()
-                .map(|&(ti, to)| self.params.l_single(ti, to, self.eta, self.masking))
-                .collect::<Result<Vec<f64>, ParamError>>()?,
-            Scattering::Multiple => self
-                .params
-                .l_multiple_batch(&angles, self.eta, self.walks, self.seed)?,
-        };
+        let l = self.model.predict(&angles)?;
         let mut rng = Pcg64::seed_from_u64(self.seed);
         let points = angles
             .iter()
@@ -189,6 +142,62 @@ impl SynthSpec {
             name: self.name.clone(),
             points,
         })
+    }
+}
+
+/// Writes `samples` with `comment` to the file at `path`: replacing it, or with `append`
+/// adding the rows to it (creating it if needed; an existing file must start with the header
+/// [`write_csv`] writes, read by the loader's rules, and end with a line break).
+pub fn write_file(
+    path: &Path,
+    samples: &[Sample],
+    comment: Option<&str>,
+    append: bool,
+) -> Result<(), SynthError> {
+    let display = path.display().to_string();
+    let header = !append || !path.exists();
+    if !header {
+        let expected = HEADER.join(",");
+        match read_header(path)? {
+            Some((_, h)) if h.join(",") == expected => {}
+            Some((line, h)) => {
+                return Err(SynthError::Append {
+                    path: format!("{display}:{line}"),
+                    reason: format!("the header is '{}', synth writes '{expected}'", h.join(",")),
+                });
+            }
+            None => {
+                return Err(SynthError::Append {
+                    path: display,
+                    reason: "the file has no header line".into(),
+                });
+            }
+        }
+        let ends_with_break = std::fs::read(path)
+            .map(|b| b.ends_with(b"\n"))
+            .unwrap_or(false);
+        if !ends_with_break {
+            return Err(SynthError::Append {
+                path: display,
+                reason: "the file does not end with a line break".into(),
+            });
+        }
+    }
+    let mut buf = Vec::new();
+    write_csv(&mut buf, samples, header, comment).expect("writing to memory");
+    let io = |source| SynthError::Io {
+        path: display.clone(),
+        source,
+    };
+    if append {
+        std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(path)
+            .and_then(|mut f| f.write_all(&buf))
+            .map_err(io)
+    } else {
+        std::fs::write(path, &buf).map_err(io)
     }
 }
 
@@ -295,21 +304,23 @@ pub fn parse_angle_list(text: &str) -> Result<Vec<f64>, String> {
 mod tests {
     use super::*;
     use crate::load::load_bytes;
-    use std::path::Path;
+    use crate::model::{Gamma, ModelKind};
+    use stfit_core::ScatteringOrders;
+    use stfit_core::bsdf::Masking;
 
     fn spec() -> SynthSpec {
         SynthSpec {
-            params: ModelParams {
+            model: Model {
                 kind: ModelKind::StudentT,
                 alpha: 0.2,
-                gamma: 3.0,
+                gamma: Gamma::Fixed(3.0),
                 scale: 1.5,
+                eta: 1.51,
+                masking: Masking::Separable,
+                orders: ScatteringOrders::Single,
+                walks: None,
+                seed: None,
             },
-            gamma_given: true,
-            eta: 1.51,
-            masking: Masking::Separable,
-            scattering: Scattering::Single,
-            walks: 1,
             theta_i_deg: vec![0.0, 30.0, 60.0, 80.0],
             theta_o_deg: parse_angle_list("106:254:2").unwrap(),
             noise: 0.0,
@@ -350,13 +361,13 @@ mod tests {
         .unwrap();
         let d = load_bytes(Path::new("synth.csv"), &buf).unwrap();
         assert_eq!(d.samples, vec![sample.clone()]);
-        for p in &sample.points {
-            let l = s
-                .params
-                .l_single(p.theta_i_deg, p.theta_o_deg, s.eta, s.masking)
-                .unwrap();
-            assert_eq!(p.l, l);
-        }
+        let angles: Vec<_> = sample
+            .points
+            .iter()
+            .map(|p| (p.theta_i_deg, p.theta_o_deg))
+            .collect();
+        let l = s.model.predict(&angles).unwrap();
+        assert!(sample.points.iter().zip(&l).all(|(p, l)| p.l == *l));
         assert!(sample.points.iter().any(|p| p.l > 0.1));
     }
 
@@ -390,31 +401,41 @@ mod tests {
     fn invalid_requests_are_rejected() {
         type Modify = fn(&mut SynthSpec);
         let cases: Vec<(Modify, &str)> = vec![
-            (|s| s.params.alpha = 0.0, "alpha"),
-            (|s| s.params.gamma = 1.5, "gamma"),
-            (|s| s.gamma_given = false, "gamma"),
-            (
-                |s| {
-                    s.params.kind = ModelKind::Ggx;
-                },
-                "gamma",
-            ),
-            (|s| s.eta = 1.0, "eta"),
-            (|s| s.params.scale = -1.0, "scale"),
+            (|s| s.model.alpha = 0.0, "alpha"),
+            (|s| s.model.gamma = Gamma::Fixed(1.5), "gamma"),
+            (|s| s.model.gamma = Gamma::NotApplicable, "gamma"),
+            (|s| s.model.kind = ModelKind::Ggx, "gamma"),
+            (|s| s.model.eta = 1.0, "eta"),
+            (|s| s.model.scale = -1.0, "scale"),
             (|s| s.noise = f64::NAN, "noise"),
             (|s| s.theta_i_deg = vec![90.0], "theta_i_deg"),
             (|s| s.theta_o_deg = vec![], "theta_o_deg"),
             (|s| s.theta_o_deg = vec![270.0], "theta_o_deg"),
             (|s| s.name = "#x".into(), "sample name"),
             (|s| s.name = String::new(), "sample name"),
-            (|s| s.scattering = Scattering::Multiple, "height-correlated"),
             (
                 |s| {
-                    s.scattering = Scattering::Multiple;
-                    s.masking = Masking::Correlated;
-                    s.walks = 0;
+                    s.model.orders = ScatteringOrders::All;
+                    s.model.walks = Some(10);
+                    s.model.seed = Some(1);
                 },
-                "random walk",
+                "correlated",
+            ),
+            (
+                |s| {
+                    s.model.orders = ScatteringOrders::All;
+                    s.model.masking = Masking::Correlated;
+                    s.model.walks = Some(0);
+                    s.model.seed = Some(1);
+                },
+                "walks",
+            ),
+            (
+                |s| {
+                    s.model.orders = ScatteringOrders::Multiple;
+                    s.model.masking = Masking::Correlated;
+                },
+                "multiple",
             ),
         ];
         for (modify, word) in cases {
@@ -430,12 +451,13 @@ mod tests {
     #[test]
     fn multiple_scattering_sample_adds_to_single_scattering() {
         let mut s = spec();
-        s.params.alpha = 0.6;
+        s.model.alpha = 0.6;
         s.theta_o_deg = parse_angle_list("110:250:10").unwrap();
-        s.masking = Masking::Correlated;
+        s.model.masking = Masking::Correlated;
         let single = s.sample().unwrap();
-        s.scattering = Scattering::Multiple;
-        s.walks = 2000;
+        s.model.orders = ScatteringOrders::All;
+        s.model.walks = Some(2000);
+        s.model.seed = Some(s.seed);
         let multi = s.sample().unwrap();
         assert_eq!(multi, s.sample().unwrap());
         let (ls, lm): (f64, f64) = single

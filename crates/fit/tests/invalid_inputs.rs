@@ -3,8 +3,10 @@
 mod common;
 
 use stfit_core::ParamError;
-use stfit_fit::fit::{FitError, fit_all, fit_sample, predict};
-use stfit_fit::{FitOptions, Measurement, ModelKind, ModelParams, ModelSpec, Sample, Scattering};
+use stfit_fit::fit::{FitError, fit_all, fit_sample};
+use stfit_fit::{
+    FitOptions, Gamma, Masking, Measurement, Model, ModelKind, ModelSpec, Sample, ScatteringOrders,
+};
 
 fn sample(points: Vec<Measurement>) -> Sample {
     Sample {
@@ -23,20 +25,18 @@ fn point(theta_i_deg: f64, theta_o_deg: f64, l: f64) -> Measurement {
 }
 
 fn spec(kind: ModelKind, gamma_fixed: Option<f64>) -> ModelSpec {
-    ModelSpec { kind, gamma_fixed }
+    match gamma_fixed {
+        Some(g) if kind != ModelKind::StudentT => {
+            // Not constructible: the only way to ask for this is through ModelSpec::new.
+            assert!(ModelSpec::new(kind, Some(g)).is_err());
+            ModelSpec::new(kind, None).unwrap()
+        }
+        _ => ModelSpec::new(kind, gamma_fixed).unwrap(),
+    }
 }
 
 fn good() -> Sample {
-    common::synthetic(
-        &ModelParams {
-            kind: ModelKind::Ggx,
-            alpha: 0.3,
-            gamma: f64::NAN,
-            scale: 1.0,
-        },
-        0.0,
-        1,
-    )
+    common::synthetic(&common::truth(ModelKind::Ggx, 0.3, 0.0, 1.0), 0.0, 1)
 }
 
 #[test]
@@ -84,7 +84,7 @@ fn invalid_gamma_is_rejected() {
             "gamma {g}: {e}"
         );
     }
-    let e = fit_sample(&s, spec(ModelKind::Ggx, Some(3.0)), &opts).unwrap_err();
+    let e = ModelSpec::new(ModelKind::Ggx, Some(3.0)).unwrap_err();
     assert!(matches!(e, FitError::InvalidSpec(_)), "{e}");
 }
 
@@ -115,23 +115,31 @@ fn invalid_points_and_options_are_rejected() {
         let e = fit_sample(&good(), ggx, &o).unwrap_err();
         assert!(matches!(e, FitError::InvalidParameter(_)), "eta {eta}: {e}");
     }
-    let no_walks = FitOptions {
-        scattering: Scattering::Multiple,
-        walk_samples: 0,
-        ..opts
-    };
+    let all = FitOptions::with_orders(ScatteringOrders::All);
+    for bad in [
+        FitOptions { walks: 0, ..all },
+        // Orders >= 2 only model no measurement.
+        FitOptions {
+            orders: ScatteringOrders::Multiple,
+            ..all
+        },
+        // The walk's masking is height-correlated by construction.
+        FitOptions {
+            masking: Masking::Separable,
+            ..all
+        },
+    ] {
+        assert!(
+            matches!(
+                fit_sample(&good(), ggx, &bad),
+                Err(FitError::InvalidSpec(_))
+            ),
+            "{bad:?}"
+        );
+    }
+    let model = Model::single(ModelKind::StudentT, 0.3, Gamma::Free(1.2), 1.0);
     assert!(matches!(
-        fit_sample(&good(), ggx, &no_walks),
-        Err(FitError::InvalidSpec(_))
-    ));
-    let params = ModelParams {
-        kind: ModelKind::StudentT,
-        alpha: 0.3,
-        gamma: 1.2,
-        scale: 1.0,
-    };
-    assert!(matches!(
-        predict(&params, &[(0.0, 180.0)], &opts),
+        model.predict(&[(0.0, 180.0)]),
         Err(FitError::InvalidParameter(ParamError::Gamma(_)))
     ));
 }
@@ -147,7 +155,7 @@ fn zero_weight_points_are_ignored() {
     let r = fit_sample(&s, spec(ModelKind::Ggx, None), &FitOptions::default()).unwrap();
     assert_eq!(r.n_points, 300);
     assert!(
-        (r.alpha - 0.3).abs() < 1e-6 && (r.scale - 1.0).abs() < 1e-6,
+        (r.model.alpha - 0.3).abs() < 1e-6 && (r.model.scale - 1.0).abs() < 1e-6,
         "{r:?}"
     );
 }

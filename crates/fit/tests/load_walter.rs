@@ -1,20 +1,15 @@
 //! The published Walter et al. 2007 measurements load unchanged (read from the shared folder,
 //! `../shared` next to the repository, or `$STFIT_SHARED`; never copied into the project).
 
-use std::path::PathBuf;
-
 use stfit_fit::load::load_path;
-
-fn shared_dir() -> PathBuf {
-    std::env::var_os("STFIT_SHARED").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared"),
-        PathBuf::from,
-    )
-}
 
 #[test]
 fn walter_measurements_load_with_three_samples_of_300_points() {
-    let path = shared_dir().join("data/walter2007/measurements.csv");
+    let Some(path) = stfit_test_support::walter_measurements(
+        "walter_measurements_load_with_three_samples_of_300_points",
+    ) else {
+        return;
+    };
     let data = load_path(&path).unwrap_or_else(|e| panic!("{e}"));
     let names: Vec<_> = data.samples.iter().map(|s| s.name.as_str()).collect();
     assert_eq!(names, ["frosted", "etched", "ground"]);

@@ -77,16 +77,14 @@ fn residual_range((lo, hi): (f64, f64)) -> (f64, f64) {
 /// The parameter line of a panel title.
 fn params_line(p: &PanelView, with_scale: bool) -> String {
     let fit = p.fit;
-    let mut parts = vec![format!("α = {}", fmt_sig(fit.alpha, 4))];
-    if let Some(g) = fit.gamma {
-        parts.push(if fit.gamma_fixed {
-            format!("γ = {g} (fixed)")
-        } else {
-            format!("γ = {}", fmt_sig(g, 4))
-        });
+    let mut parts = vec![format!("α = {}", fmt_sig(fit.model.alpha, 4))];
+    match fit.model.gamma {
+        stfit_fit::Gamma::Fixed(g) => parts.push(format!("γ = {g} (fixed)")),
+        stfit_fit::Gamma::Free(g) => parts.push(format!("γ = {}", fmt_sig(g, 4))),
+        stfit_fit::Gamma::NotApplicable => {}
     }
     if with_scale {
-        parts.push(format!("scale = {}", fmt_sig(fit.scale, 4)));
+        parts.push(format!("scale = {}", fmt_sig(fit.model.scale, 4)));
     }
     parts.push(format!("rmse √L = {}", fmt_sig(fit.rmse_sqrt_l, 3)));
     parts.join("    ")

@@ -3,8 +3,8 @@
 //!
 //! The data convention is that of `stfit-fit` (theory section 8): light from air at `theta_i`,
 //! `theta_o` the transmitted direction inside the glass (180 degrees straight through), and the
-//! plotted quantity `sqrt(L)` (the published view) or `L`, with model curves
-//! `L = scale * f_t(wi, wo) * cos(theta_i) / eta^2` from the single-scattering BTDF.
+//! plotted quantity `sqrt(L)` (the published view) or `L`. Each fit is drawn with its own model
+//! ([`stfit_fit::Model::predict`]): its eta, masking and scattering orders, as it was fitted.
 //!
 //! [`render_report`] draws everything in memory; [`Report::write_to`] writes it to a folder:
 //!
@@ -29,14 +29,12 @@ mod view;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use serde::{Deserialize, Serialize};
-use stfit_core::bsdf::Masking;
 use stfit_fit::{Dataset, FitResult};
 
 pub use error::ReportError;
 pub use figures::{clip_below, fmt_tick};
 pub use style::fmt_sig;
-pub use table::fits_markdown;
+pub use table::{fits_markdown, fits_table};
 pub use view::ModelSlot;
 
 use figures::{NdfFigure, OverviewFigure, SampleFigure};
@@ -54,34 +52,10 @@ pub enum YScale {
     Linear,
 }
 
-/// How to draw a report. `eta` and `masking` must be those the fits were made with.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// How to draw a report. The model of every curve comes from its fit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct ReportOptions {
     pub y_scale: YScale,
-    /// Relative index of the glass (1.51 for the Walter data).
-    pub eta: f64,
-    pub masking: Masking,
-}
-
-impl Default for ReportOptions {
-    fn default() -> Self {
-        Self {
-            y_scale: YScale::Sqrt,
-            eta: 1.51,
-            masking: Masking::Separable,
-        }
-    }
-}
-
-/// The stored-fits JSON written by `stfit fit --json`: `{"fits": [FitResult, ...]}`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct FitsFile {
-    pub fits: Vec<FitResult>,
-}
-
-/// Parses stored fits (`{"fits": [...]}`).
-pub fn read_fits_json(json: &str) -> Result<Vec<FitResult>, ReportError> {
-    Ok(serde_json::from_str::<FitsFile>(json)?.fits)
 }
 
 /// One output file, in memory.
@@ -123,6 +97,20 @@ impl Report {
             })
             .collect()
     }
+}
+
+/// What a model computes besides its NDF, as tables and messages state it: for example
+/// `single scattering, separable masking, eta 1.51` or `all orders (20000 walks, seed 1), eta
+/// 1.45`.
+pub fn model_description(m: &stfit_fit::Model) -> String {
+    let orders = match (m.orders, m.walks, m.seed) {
+        (stfit_fit::ScatteringOrders::Single, _, _) => {
+            format!("single scattering, {} masking", m.masking.name())
+        }
+        (_, Some(w), Some(s)) => format!("all orders ({w} walks, seed {s})"),
+        _ => "all orders".to_string(),
+    };
+    format!("{orders}, eta {}", m.eta)
 }
 
 /// A file-name stem for a sample: ASCII letters, digits, `-`, `_` and `.` kept, anything else
@@ -220,7 +208,6 @@ pub fn render_report(
     if data.samples.is_empty() {
         return Err(ReportError::NoSamples);
     }
-    stfit_core::error::check_eta(opts.eta).map_err(ReportError::Options)?;
     let slots = assign_fits(data, fits)?;
 
     let mut stems: HashMap<String, &str> = HashMap::new();
@@ -253,13 +240,12 @@ pub fn render_report(
             if (p.rmse_sqrt_l - stored).abs() > RMSE_TOLERANCE * stored.abs().max(1e-3) {
                 warnings.push(format!(
                     "sample `{}`, {}: the stored rmse of sqrt(L) is {} but the data and the \
-                     fitted parameters give {} (single scattering, eta {}); the fit may come \
-                     from other data or other options",
+                     fitted model ({}) give {}; the fit may come from other data",
                     view.title(),
                     ModelSlot::of(p.fit).title(),
                     fmt_sig(stored, 6),
+                    model_description(&p.fit.model),
                     fmt_sig(p.rmse_sqrt_l, 6),
-                    opts.eta
                 ));
             }
         }

@@ -1,9 +1,9 @@
 //! What the figures show, computed once per sample: measured points grouped by incidence
 //! angle, and for every fitted model its curves and residuals in the plotted scale.
 
+use stfit_core::Vec3;
 use stfit_core::ndf::{AnyNdf, Ndf};
-use stfit_core::{ParamError, Vec3};
-use stfit_fit::{FitResult, ModelKind, ModelParams, Sample};
+use stfit_fit::{FitResult, ModelKind, Sample};
 
 use crate::{ReportError, ReportOptions, YScale};
 
@@ -32,7 +32,7 @@ impl ModelSlot {
 
     /// The panel a fit belongs to.
     pub fn of(fit: &FitResult) -> Self {
-        match (fit.model, fit.gamma_fixed) {
+        match (fit.model.kind, fit.model.gamma.is_fixed()) {
             (ModelKind::Beckmann, _) => Self::Beckmann,
             (ModelKind::Ggx, _) => Self::Ggx,
             (ModelKind::StudentT, true) => Self::StudentTFixed,
@@ -115,35 +115,6 @@ impl YScale {
     }
 }
 
-/// The model a fit describes, or why it describes none.
-pub(crate) fn model_params(fit: &FitResult) -> Result<(ModelParams, AnyNdf), ReportError> {
-    let invalid = |reason: String| ReportError::InvalidFit {
-        sample: fit.sample.clone(),
-        model: ModelSlot::of(fit).title().to_string(),
-        reason,
-    };
-    let gamma = match (fit.model, fit.gamma) {
-        (ModelKind::StudentT, Some(g)) => g,
-        (ModelKind::StudentT, None) => return Err(invalid("Student-T without gamma".into())),
-        // Ignored by Beckmann and GGX.
-        (_, _) => f64::NAN,
-    };
-    if !(fit.scale.is_finite() && fit.scale > 0.0) {
-        return Err(invalid(format!(
-            "scale must be finite and > 0, got {}",
-            fit.scale
-        )));
-    }
-    let params = ModelParams {
-        kind: fit.model,
-        alpha: fit.alpha,
-        gamma,
-        scale: fit.scale,
-    };
-    let ndf = params.ndf().map_err(|e| invalid(e.to_string()))?;
-    Ok((params, ndf))
-}
-
 /// Groups a sample's points by incidence angle (ascending) and sorts each group by `theta_o`.
 fn angle_groups(sample: &Sample, y: YScale) -> Vec<AngleGroup> {
     let mut points: Vec<_> = sample.points.iter().collect();
@@ -176,33 +147,40 @@ fn panel_view<'a>(
     (x0, x1): (f64, f64),
     opts: &ReportOptions,
 ) -> Result<PanelView<'a>, ReportError> {
-    let (params, ndf) = model_params(fit)?;
-    let invalid = |e: ParamError| ReportError::InvalidFit {
+    let invalid = |e: stfit_fit::FitError| ReportError::InvalidFit {
         sample: fit.sample.clone(),
         model: ModelSlot::of(fit).title().to_string(),
         reason: e.to_string(),
     };
+    let ndf = fit.model.ndf().map_err(invalid)?;
+    // Every curve and measured point of the panel in one batch: the model's walks (all
+    // orders) run once per incidence angle.
+    let mut angles = Vec::new();
+    for g in groups {
+        angles.extend((0..CURVE_POINTS).map(|k| {
+            let x = x0 + (x1 - x0) * k as f64 / (CURVE_POINTS - 1) as f64;
+            (g.theta_i_deg, x)
+        }));
+        angles.extend(g.points.iter().map(|&(x, _)| (g.theta_i_deg, x)));
+    }
+    let l = fit.model.predict(&angles).map_err(invalid)?;
     let y = opts.y_scale;
     let mut curves = Vec::with_capacity(groups.len());
     let mut residuals = Vec::with_capacity(groups.len());
     let (mut sum_sq, mut n) = (0.0, 0usize);
+    let mut at = 0;
     for g in groups {
         let curve = (0..CURVE_POINTS)
-            .map(|k| {
-                let x = x0 + (x1 - x0) * k as f64 / (CURVE_POINTS - 1) as f64;
-                let l = params.l_single(g.theta_i_deg, x, opts.eta, opts.masking)?;
-                Ok((x, y.apply(l)))
-            })
-            .collect::<Result<Vec<_>, ParamError>>()
-            .map_err(invalid)?;
+            .map(|k| (angles[at + k].1, y.apply(l[at + k])))
+            .collect();
+        at += CURVE_POINTS;
         let mut res = Vec::with_capacity(g.points.len());
         for ((&(x, y_meas), &l_meas), &fitted) in g.points.iter().zip(&g.l).zip(&g.fitted) {
-            let l = params
-                .l_single(g.theta_i_deg, x, opts.eta, opts.masking)
-                .map_err(invalid)?;
-            res.push((x, y_meas - y.apply(l)));
+            let l_model = l[at];
+            at += 1;
+            res.push((x, y_meas - y.apply(l_model)));
             if fitted {
-                let d = YScale::Sqrt.apply(l_meas) - YScale::Sqrt.apply(l);
+                let d = YScale::Sqrt.apply(l_meas) - YScale::Sqrt.apply(l_model);
                 sum_sq += d * d;
                 n += 1;
             }

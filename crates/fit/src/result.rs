@@ -1,0 +1,148 @@
+//! What a fit reports, and the versioned file of stored fits (`fits-format.md`).
+//!
+//! A [`FitResult`] carries everything needed to evaluate the fitted model again (its
+//! [`Model`]), how it was fitted and what it was fitted to, so that anything downstream (the
+//! report, export, Python) uses it without being told again.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::model::Model;
+use crate::options::{Loss, Optimizer};
+
+/// The result of fitting one model to one sample (one record of the fits JSON).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitResult {
+    /// The sample's name (empty for a file without a `sample` column).
+    pub sample: String,
+    /// The fitted model: NDF, alpha, gamma, scale, eta, masking, orders, walks and seed (in
+    /// JSON, its keys sit beside the others).
+    #[serde(flatten)]
+    pub model: Model,
+    pub loss: Loss,
+    pub optimizer: Optimizer,
+    /// Root-mean-square residual of `sqrt(L)` over the fitted points (weight > 0).
+    pub rmse_sqrt_l: f64,
+    /// Number of fitted points.
+    pub n_points: usize,
+    /// Standard errors (heteroscedasticity-robust, see [`crate::fit`]); `None` (JSON `null`)
+    /// where undefined: a fixed or absent parameter, or a curvature that does not determine it.
+    pub alpha_stderr: Option<f64>,
+    pub gamma_stderr: Option<f64>,
+    pub scale_stderr: Option<f64>,
+    /// Iterations of the local optimiser, summed over its starts.
+    pub iterations: u64,
+    /// The data file the sample was read from, as given (`None` for data not from a file).
+    pub data: Option<String>,
+    /// The version of stfit that made the fit.
+    pub stfit_version: String,
+}
+
+impl FitResult {
+    /// The fit as named in messages: its sample and model, such as
+    /// `sample 'frosted', student-t (gamma = 3)`.
+    pub fn label(&self) -> String {
+        format!("sample '{}', {}", self.sample, self.model.label())
+    }
+}
+
+/// The version of the fits file this stfit writes.
+pub const FITS_VERSION: u32 = 1;
+
+/// A file of stored fits: `{"version": 1, "fits": [FitResult, ...]}` (`fits-format.md`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitsFile {
+    /// The format version, [`FITS_VERSION`].
+    pub version: u32,
+    pub fits: Vec<FitResult>,
+}
+
+/// Why stored fits could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum FitsFileError {
+    #[error("{path}: cannot read: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{0}: not a fits file: {1}")]
+    Json(String, String),
+    #[error(
+        "{0}: the file has no format version: it was written by stfit 0.1, which did not \
+         record eta, masking and orders; fit again to make a file of this version \
+         (stfit DATA --model all --out FILE)"
+    )]
+    Unversioned(String),
+    #[error(
+        "{0}: format version {1} is not one this stfit reads (it reads version {FITS_VERSION})"
+    )]
+    Version(String, u64),
+    #[error("{file}: fit {index} ({label}): {reason}")]
+    InvalidFit {
+        file: String,
+        index: usize,
+        label: String,
+        reason: String,
+    },
+}
+
+impl FitsFile {
+    /// The file of `fits` in the current version.
+    pub fn new(fits: Vec<FitResult>) -> Self {
+        Self {
+            version: FITS_VERSION,
+            fits,
+        }
+    }
+
+    /// The JSON text of the file, pretty-printed, ending in a line break.
+    pub fn to_json(&self) -> String {
+        let mut text =
+            serde_json::to_string_pretty(self).expect("fits are plain data and serialise");
+        text.push('\n');
+        text
+    }
+
+    /// Parses stored fits; `source` names them in errors. Refuses files without a version (made
+    /// by stfit 0.1) or of another version, and fits whose model cannot be evaluated.
+    pub fn from_json(source: &str, text: &str) -> Result<Self, FitsFileError> {
+        let json = |e: serde_json::Error| FitsFileError::Json(source.to_owned(), e.to_string());
+        let value: serde_json::Value = serde_json::from_str(text).map_err(json)?;
+        match value.get("version") {
+            None if value.get("fits").is_some() => {
+                return Err(FitsFileError::Unversioned(source.to_owned()));
+            }
+            Some(v) if v.as_u64() != Some(u64::from(FITS_VERSION)) => {
+                return Err(match v.as_u64() {
+                    Some(n) => FitsFileError::Version(source.to_owned(), n),
+                    None => FitsFileError::Json(
+                        source.to_owned(),
+                        format!("\"version\" must be a number, got {v}"),
+                    ),
+                });
+            }
+            _ => {}
+        }
+        // Parsed from the text itself, not the `Value`, so every number keeps its exact bits.
+        let file: FitsFile = serde_json::from_str(text).map_err(json)?;
+        for (index, fit) in file.fits.iter().enumerate() {
+            fit.model.check().map_err(|e| FitsFileError::InvalidFit {
+                file: source.to_owned(),
+                index,
+                label: fit.label(),
+                reason: e.to_string(),
+            })?;
+        }
+        Ok(file)
+    }
+
+    /// Reads stored fits from `path` ([`FitsFile::from_json`]).
+    pub fn read(path: &Path) -> Result<Self, FitsFileError> {
+        let text = std::fs::read_to_string(path).map_err(|source| FitsFileError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::from_json(&path.display().to_string(), &text)
+    }
+}
