@@ -288,5 +288,10 @@ pub fn fit_with_progress(
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
+    for fit in fits.iter().flatten() {
+        for w in &fit.warnings {
+            eprintln!("warning: {}: {w}", fit.label());
+        }
+    }
     fits
 }

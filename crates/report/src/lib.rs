@@ -35,7 +35,7 @@ use stfit_fit::{Dataset, FitResult};
 pub use error::ReportError;
 pub use figures::{clip_below, fmt_tick};
 pub use style::fmt_sig;
-pub use table::{fits_markdown, fits_table};
+pub use table::{fits_markdown, fits_table, warning_codes};
 pub use view::ModelSlot;
 
 use figures::{NdfFigure, OverviewFigure, SampleFigure};
