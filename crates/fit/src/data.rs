@@ -12,6 +12,28 @@ use crate::conventions::{
     theta_in_range, theta_o_in_range,
 };
 
+/// Text from a file or the command line as a message shows it: control characters escaped
+/// (so that the message stays on one line) and, past 60 characters, cut with the total length
+/// given, so that a huge field is not echoed whole.
+pub fn short(text: &str) -> String {
+    const MAX: usize = 60;
+    let mut out = String::new();
+    let mut shown = 0;
+    for c in text.chars() {
+        if shown == MAX {
+            out.push_str(&format!("... ({} characters)", text.chars().count()));
+            return out;
+        }
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+        shown += 1;
+    }
+    out
+}
+
 /// The angles of a measurement as its file gave them, in degrees.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Angles {

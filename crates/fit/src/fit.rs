@@ -46,7 +46,7 @@ use stfit_core::error::check_gamma;
 use stfit_core::walk::ScatteringOrders;
 use thiserror::Error;
 
-use crate::data::{Dataset, Measured, Sample};
+use crate::data::{Dataset, Measured, Sample, short};
 use crate::forward::Forward;
 use crate::loss::{Projected, Projection, signed_sqrt};
 use crate::model::{Gamma, Model, ModelKind, ModelSpec, all_models};
@@ -78,7 +78,8 @@ const MAX_STARTS: usize = 3;
 pub enum FitError {
     /// Fewer usable points (finite, positive weight) than the fit needs.
     #[error(
-        "sample `{sample}`: {n} usable points, a fit with {params} parameters needs at least {needed}"
+        "sample `{}`: {n} usable points, a fit with {params} parameters needs at least {needed}",
+        short(sample)
     )]
     TooFewPoints {
         sample: String,
@@ -87,10 +88,10 @@ pub enum FitError {
         needed: usize,
     },
     /// Every usable measured value is zero: nothing to fit.
-    #[error("sample `{sample}`: every measured value is zero")]
+    #[error("sample `{}`: every measured value is zero", short(sample))]
     AllZero { sample: String },
     /// A measurement outside the model's domain.
-    #[error("sample `{sample}`, point {index}: {reason}")]
+    #[error("sample `{}`, point {index}: {reason}", short(sample))]
     InvalidData {
         sample: String,
         index: usize,
@@ -103,27 +104,38 @@ pub enum FitError {
     #[error("invalid model: {0}")]
     InvalidSpec(String),
     /// The model is zero at every point whatever its parameters.
-    #[error("sample `{sample}`: no microfacet connects any measured pair of directions")]
+    #[error(
+        "sample `{}`: no microfacet connects any measured pair of directions",
+        short(sample)
+    )]
     NoSignal { sample: String },
     /// The cost was not finite at any point the optimiser evaluated, from every start.
     #[error(
-        "sample `{sample}`, model {model}: the model is not finite at any of the {evaluations} \
+        "sample `{}`, model {model}: the model is not finite at any of the {evaluations} \
          points the optimizer tried; the measured directions may lie where the model \
-         overflows (near-specular pairs with a tiny roughness)"
+         overflows (near-specular pairs with a tiny roughness)",
+        short(sample)
     )]
     NoFiniteCost {
         sample: String,
         model: &'static str,
         evaluations: u64,
     },
+    /// A model value that overflows or underflows f64.
+    #[error("{0}")]
+    NotRepresentable(String),
     /// The calibration scale cannot be fitted or held as asked.
-    #[error("sample `{sample}`: {reason}")]
+    #[error("sample `{}`: {reason}", short(sample))]
     Scale { sample: String, reason: String },
 }
 
 /// A fit of one sample of a dataset that failed, with where.
 #[derive(Debug, Clone, PartialEq, Error)]
-#[error("{}: sample '{sample}', model {model}: {error}", file.display())]
+#[error(
+    "{}: sample '{}', model {model}: {error}",
+    short(&file.display().to_string()),
+    short(sample)
+)]
 pub struct DatasetFitError {
     /// The data file.
     pub file: PathBuf,
@@ -228,7 +240,11 @@ struct Shape {
 impl Shape {
     fn new(spec: ModelSpec, opts: &FitOptions) -> Result<Self, FitError> {
         if let Gamma::Fixed(g) = spec.gamma() {
-            check_gamma(g)?;
+            if opts.orders == ScatteringOrders::All {
+                stfit_core::error::check_walk_gamma(g)?;
+            } else {
+                check_gamma(g)?;
+            }
         }
         Ok(Self {
             kind: spec.kind(),

@@ -39,7 +39,7 @@ pub mod result;
 pub mod synth;
 
 pub use conventions::DEFAULT_ETA;
-pub use data::{Angles, Dataset, Measured, Measurement, Quantity, Sample};
+pub use data::{Angles, Dataset, Measured, Measurement, Quantity, Sample, short};
 pub use fit::{DatasetFitError, FitError, fit_all, fit_dataset, fit_sample};
 pub use load::{LoadError, LoadErrorKind, load_path, load_paths};
 pub use model::{Gamma, Model, ModelKind, ModelSpec, all_models};

@@ -114,7 +114,11 @@ impl FitResult {
     /// The fit as named in messages: its sample and model, such as
     /// `sample 'frosted', student-t (gamma = 3)`.
     pub fn label(&self) -> String {
-        format!("sample '{}', {}", self.sample, self.model.label())
+        format!(
+            "sample '{}', {}",
+            crate::data::short(&self.sample),
+            self.model.label()
+        )
     }
 
     /// Whether the fit carries warnings (and so no standard errors).
