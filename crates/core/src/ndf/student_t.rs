@@ -1,6 +1,6 @@
 //! The Student-T NDF of Ribardiere et al. 2017 in d'Eon's (alpha, gamma) parameterisation.
 
-use super::beckmann::{open_uniform, sample_visible_beckmann};
+use super::beckmann::{open_uniform, sample_visible_beckmann, sample_visible_beckmann_in_frame};
 use super::special::{FRAC_1_SQRT_PI, erfc_and_gauss, erfcx_gap};
 use super::{Ndf, cos2_sin2, lambda_on_sphere};
 use crate::error::{ParamError, check_alpha, check_gamma};
@@ -23,6 +23,9 @@ pub struct StudentT {
     inv_a2g1: f64,
     /// Degrees of freedom `nu = 2g - 2` of the 1D slope distribution.
     nu: f64,
+    /// `nu / 2` is 1 or 2 (gamma 2 or 3): the continued fraction of `I_(1-x)(1/2, nu/2)`
+    /// terminates.
+    terminating_cf: bool,
     /// Student t pdf at 0: `Gamma((nu+1)/2) / (sqrt(nu pi) Gamma(nu/2)) = 1 / (sqrt(nu) B(nu/2, 1/2))`.
     t_norm: f64,
     /// `alpha sqrt(g-1)`: `alpha_m = alpha sqrt(g-1) / sqrt(m)` in the Gamma superposition.
@@ -61,6 +64,7 @@ impl StudentT {
             d_scale: 1.0 / (PI * alpha * alpha),
             inv_a2g1: 1.0 / (g1 * alpha * alpha),
             nu,
+            terminating_cf: g1 == 1.0 || g1 == 2.0,
             t_norm,
             alpha_g1: alpha * g1.sqrt(),
             w1_scale,
@@ -98,7 +102,7 @@ impl StudentT {
         // The continued fraction of I_(1-x)(1/2, a) terminates after `a` steps when
         // `a = g - 1` is an integer: prefer it for gamma = 2 and 3 where x >= 1/2 (there
         // I_x(a, 1/2) > 0.1, so `1/2 - ...` loses at most one digit).
-        let terminating = a.fract() == 0.0 && a <= 2.0 && x >= 0.5;
+        let terminating = self.terminating_cf && x >= 0.5;
         let upper = if x < (a + 1.0) / (a + 2.5) && !terminating {
             f * k * beta_cf(a, 0.5, x) / nu
         } else {
@@ -108,9 +112,9 @@ impl StudentT {
     }
 
     /// Draws `sqrt(m)` from part 1 of the tilted mixing density: `m ~ Gamma(g - 3/2,
-    /// rate 1 + k)`, given `ln_1p_k = ln(1 + k)`. For shape `< 1`, `m = X U^(1/shape)` with
-    /// `X ~ Gamma(shape + 1)`, formed in log space because `U^(1/shape)` underflows for gamma
-    /// near 3/2.
+    /// rate 1 + k)`, given `ln_1p_k = ln(1 + k)` (to an absolute 1e-16). For shape `< 1`,
+    /// `m = X U^(1/shape)` with `X ~ Gamma(shape + 1)`, formed in log space because
+    /// `U^(1/shape)` underflows for gamma near 3/2.
     #[inline]
     fn draw_sqrt_m_part1<R: Rng + ?Sized>(&self, k: f64, ln_1p_k: f64, rng: &mut R) -> f64 {
         let shape1 = self.gamma - 1.5;
@@ -200,9 +204,12 @@ impl Ndf for StudentT {
         if sin == 0.0 && c <= 0.0 {
             return Vec3::z();
         }
-        let mu = c.abs() / sin;
-        let k = mu * mu * self.inv_a2g1;
-        let ln_1p_k = k.ln_1p();
+        let inv_sin = 1.0 / sin;
+        let cot = c * inv_sin;
+        let k = cot * cot * self.inv_a2g1;
+        // ln(1 + k) is only ever exponentiated (times at most gamma), so the absolute error
+        // 1e-16 of the plain logarithm is as good as log1p's relative one here.
+        let ln_1p_k = (1.0 + k).ln();
         let w1 = sin * self.w1_scale * (-(self.gamma - 1.5) * ln_1p_k).exp();
         let sqrt_m = loop {
             if c >= 0.0 {
@@ -224,6 +231,10 @@ impl Ndf for StudentT {
             }
         };
         let inv_alpha_m = sqrt_m / self.alpha_g1;
-        sample_visible_beckmann(w, inv_alpha_m, rng)
+        if sin > 0.0 {
+            sample_visible_beckmann_in_frame(cot, w.x * inv_sin, w.y * inv_sin, inv_alpha_m, rng)
+        } else {
+            sample_visible_beckmann(w, inv_alpha_m, rng)
+        }
     }
 }
