@@ -1,6 +1,6 @@
 //! The GGX (Trowbridge-Reitz) NDF.
 
-use super::{Ndf, cos2_sin2, lambda_on_sphere};
+use super::{Ndf, cos2_sin2};
 use crate::error::{ParamError, check_alpha};
 use crate::math::{Vec3, safe_sqrt};
 use rand::{Rng, RngExt};
@@ -38,14 +38,15 @@ impl Ndf for Ggx {
         a2 / (PI * k * k)
     }
 
-    /// `Lambda = (-1 + sqrt(1 + alpha^2 tan^2 theta)) / 2`.
+    /// `Lambda = (-1 + sqrt(1 + alpha^2 tan^2 theta)) / 2`, written with the stretched length
+    /// `r = sqrt(w.z^2 + alpha^2 sin^2 theta)` as `alpha^2 sin^2 / (2 |w.z| (r + |w.z|))`: one
+    /// square root and one division, no cancellation, and `+inf` at the horizon. Below the
+    /// horizon `Lambda(-w) = -1 - Lambda(w)`.
     fn lambda(&self, w: Vec3) -> f64 {
-        let a = self.alpha;
-        lambda_on_sphere(w, |mu| {
-            let x = a / mu;
-            // (-1 + sqrt(1 + x^2)) / 2 without cancellation for small x.
-            0.5 * x * x / (1.0 + (1.0 + x * x).sqrt())
-        })
+        let c = w.z.abs();
+        let t = self.alpha * self.alpha * (w.x * w.x + w.y * w.y);
+        let l = 0.5 * t / (c * ((c * c + t).sqrt() + c));
+        if w.z >= 0.0 { l } else { -1.0 - l }
     }
 
     /// `sigma = (w.z + sqrt(w.z^2 + alpha^2 sin^2 theta)) / 2`, valid on the whole sphere.
@@ -62,21 +63,35 @@ impl Ndf for Ggx {
     }
 
     /// Exact sampling by stretching to alpha = 1 and drawing from a spherical cap (Dupuy and
-    /// Benyoub 2023); valid for every `w`, including below the horizon.
+    /// Benyoub 2023); valid for every `w`, including below the horizon. The cap is drawn in
+    /// units of the stretched length `l = |(alpha w.x, alpha w.y, w.z)|`, so the stretched
+    /// direction is never normalised, and without trigonometry: a point `(x1, x2)` uniform in
+    /// the unit disk (by rejection from its square, 4/pi tries on average) has a uniform
+    /// azimuth and an independent uniform `s = x1^2 + x2^2`, which places the point's height
+    /// `z = 1 - (1 + w_s.z) s` uniformly on the cap (Marsaglia 1972); its horizontal part is
+    /// `(x1, x2) sqrt((1 - z^2) / s)`. One square root and one division besides `l`.
     fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3 {
         let a = self.alpha;
-        let ws = Vec3::new(a * w.x, a * w.y, w.z).normalize();
-        let u1: f64 = rng.random();
-        let u2: f64 = rng.random();
-        let phi = 2.0 * PI * u1;
-        let z = (1.0 - u2) * (1.0 + ws.z) - ws.z;
-        let st = safe_sqrt(1.0 - z * z);
-        let (sp, cp) = phi.sin_cos();
-        let h = Vec3::new(st * cp + ws.x, st * sp + ws.y, z + ws.z);
+        let ws = Vec3::new(a * w.x, a * w.y, w.z);
+        let l = ws.norm();
+        let (x1, x2, s) = loop {
+            let x1 = 2.0 * rng.random::<f64>() - 1.0;
+            let x2 = 2.0 * rng.random::<f64>() - 1.0;
+            let s = x1 * x1 + x2 * x2;
+            if s < 1.0 {
+                break (x1, x2, s);
+            }
+        };
+        // In units of l: l (1 - z) = p = s (l + ws.z), l^2 (1 - z^2) / s = (l + ws.z) (2 l - p),
+        // without cancellation near the pole of the cap.
+        let q = l + ws.z;
+        let p = s * q;
+        let r = safe_sqrt(q * (2.0 * l - p));
+        let h = Vec3::new(r * x1 + ws.x, r * x2 + ws.y, (l - p) + ws.z);
         let m = Vec3::new(a * h.x, a * h.y, h.z.max(0.0));
-        let n = m.norm();
-        if n > 0.0 && m.z > 0.0 {
-            m / n
+        let n2 = m.norm_squared();
+        if n2 > 0.0 && m.z > 0.0 {
+            m * (1.0 / n2.sqrt())
         } else {
             // Measure-zero draw exactly on the cap's rim: fall back to the stretched view.
             let m = Vec3::new(a * ws.x, a * ws.y, ws.z.abs().max(f64::MIN_POSITIVE));
