@@ -19,10 +19,20 @@ pub fn fresnel_dielectric(cos_i: f64, eta: f64) -> f64 {
     if sin2_t >= 1.0 {
         return 1.0;
     }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    let rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    let rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    0.5 * (rs * rs + rp * rp)
+    fresnel_dielectric_cosines(cos_i, (1.0 - sin2_t).sqrt(), eta)
+}
+
+/// The unpolarised dielectric Fresnel reflectance `(rs^2 + rp^2) / 2` from the incident and
+/// transmitted cosines `cos_i, cos_t >= 0` and the relative index `eta` of the transmission
+/// side over the incident side: `rs = (cos_i - eta cos_t) / (cos_i + eta cos_t)`,
+/// `rp = (eta cos_i - cos_t) / (eta cos_i + cos_t)`, over one common division. For callers
+/// that need `cos_t` anyway (refraction).
+#[inline]
+pub(crate) fn fresnel_dielectric_cosines(cos_i: f64, cos_t: f64, eta: f64) -> f64 {
+    let (s_num, s_den) = (cos_i - eta * cos_t, cos_i + eta * cos_t);
+    let (p_num, p_den) = (eta * cos_i - cos_t, eta * cos_i + cos_t);
+    let (s2, p2) = (s_den * s_den, p_den * p_den);
+    0.5 * (s_num * s_num * p2 + p_num * p_num * s2) / (s2 * p2)
 }
 
 /// Exact unpolarised Fresnel reflectance of a smooth conductor, relative complex index

@@ -22,6 +22,7 @@ mod rough_dielectric;
 mod smooth_conductor;
 mod smooth_dielectric;
 
+pub(crate) use fresnel::fresnel_dielectric_cosines;
 pub use fresnel::{fresnel_conductor, fresnel_dielectric};
 pub use lambertian::Lambertian;
 pub use microfacet::{Masking, reflect, refract};

@@ -5,7 +5,7 @@
 //! arrive at a facet from either side. Directions are in the macro-surface frame.
 
 use super::Microsurface;
-use crate::bsdf::{Bsdf, fresnel_conductor, fresnel_dielectric};
+use crate::bsdf::{Bsdf, fresnel_conductor, fresnel_dielectric_cosines};
 use crate::error::{ParamError, check_eta, finite};
 use crate::math::{Frame, Vec3, safe_sqrt};
 use crate::ndf::Ndf;
@@ -137,23 +137,47 @@ fn reflect(wi: Vec3, m: Vec3) -> Vec3 {
     m * (2.0 * wi.dot(&m)) - wi
 }
 
-/// Refraction of `wi` through an interface of outward normal `m` with index `eta` below it and 1
-/// above; `wi` may be on either side. `None` under total internal reflection.
+/// The Fresnel reflectance of an interface of outward normal `m` with index `eta` below it and
+/// 1 above (`inv_eta = 1 / eta`) for light from the side of `cos_i = wi . m`:
+/// [`fresnel_dielectric`] with the inverse index precomputed.
 #[inline]
-fn refract(wi: Vec3, m: Vec3, eta: f64) -> Option<Vec3> {
+fn reflectance(cos_i: f64, eta: f64, inv_eta: f64) -> f64 {
+    let (cos_i, eta_t, inv_eta_t) = if cos_i >= 0.0 {
+        (cos_i.min(1.0), eta, inv_eta)
+    } else {
+        ((-cos_i).min(1.0), inv_eta, eta)
+    };
+    let sin2_t = (1.0 - cos_i * cos_i) * (inv_eta_t * inv_eta_t);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    fresnel_dielectric_cosines(cos_i, (1.0 - sin2_t).sqrt(), eta_t)
+}
+
+/// Refraction of `wi` through an interface of outward normal `m` with index `eta` below it and 1
+/// above (`inv_eta = 1 / eta`); `wi` may be on either side. Returns the refracted direction and
+/// the Fresnel reflectance of the interface for `wi`, from one square root (the transmitted
+/// cosine serves both), or `None` under total internal reflection. The refracted direction is
+/// unit up to rounding of its inputs; one Newton step for `1/|v|` about 1 removes that rounding
+/// (to second order) without a square root or a division.
+#[inline]
+fn refract(wi: Vec3, m: Vec3, eta: f64, inv_eta: f64) -> Option<(Vec3, f64)> {
     let cos_i = wi.dot(&m);
     // eta_t: index of the transmission side over that of the incident side.
-    let (eta_t, n, cos_i) = if cos_i >= 0.0 {
-        (eta, m, cos_i)
+    let (eta_t, inv_eta_t, n, cos_i) = if cos_i >= 0.0 {
+        (eta, inv_eta, m, cos_i)
     } else {
-        (1.0 / eta, -m, -cos_i)
+        (inv_eta, eta, -m, -cos_i)
     };
-    let sin2_t = (1.0 - cos_i * cos_i) / (eta_t * eta_t);
+    let cos_i = cos_i.min(1.0);
+    let sin2_t = (1.0 - cos_i * cos_i) * (inv_eta_t * inv_eta_t);
     if sin2_t >= 1.0 {
         return None;
     }
     let cos_t = (1.0 - sin2_t).sqrt();
-    Some((-wi / eta_t + n * (cos_i / eta_t - cos_t)).normalize())
+    let v = (n * cos_i - wi) * inv_eta_t - n * cos_t;
+    let wo = v * (1.5 - 0.5 * v.norm_squared());
+    Some((wo, fresnel_dielectric_cosines(cos_i, cos_t, eta_t)))
 }
 
 /// `v / |v|` as the outward normal of a facet that the walker of `vis` can hit
@@ -165,7 +189,7 @@ fn facing_unit<V: VisibleNormals>(v: Vec3, vis: &V) -> Option<Vec3> {
     if len == 0.0 || !len.is_finite() {
         return None;
     }
-    let h = v / len;
+    let h = v * (1.0 / len);
     Some(if vis.wi_side().dot(&h) < 0.0 { -h } else { h })
 }
 
@@ -174,13 +198,17 @@ fn facing_unit<V: VisibleNormals>(v: Vec3, vis: &V) -> Option<Vec3> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DielectricFacet {
     eta: f64,
+    /// `1 / eta`.
+    inv_eta: f64,
 }
 
 impl DielectricFacet {
     /// A dielectric facet with relative index `eta = n_below / n_above` (finite, > 0, != 1).
     pub fn new(eta: f64) -> Result<Self, ParamError> {
+        let eta = check_eta(eta)?;
         Ok(Self {
-            eta: check_eta(eta)?,
+            eta,
+            inv_eta: 1.0 / eta,
         })
     }
 
@@ -192,12 +220,10 @@ impl DielectricFacet {
 
 impl Facet for DielectricFacet {
     fn scatter<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample> {
-        let f = fresnel_dielectric(wi.dot(&m), self.eta);
-        let wo = if rng.random::<f64>() < f {
-            reflect(wi, m)
-        } else {
-            // Fresnel is 1 under total internal reflection; reflect if rounding disagrees.
-            refract(wi, m, self.eta).unwrap_or_else(|| reflect(wi, m))
+        // Under total internal reflection the Fresnel reflectance is 1: no choice to draw.
+        let wo = match refract(wi, m, self.eta, self.inv_eta) {
+            Some((wt, f)) if rng.random::<f64>() >= f => wt,
+            _ => reflect(wi, m),
         };
         Some(FacetSample { wo, weight: 1.0 })
     }
@@ -227,10 +253,14 @@ impl Facet for DielectricFacet {
         if d_vis == 0.0 {
             return 0.0;
         }
-        let f = fresnel_dielectric(hi, self.eta);
         if reflection {
+            let f = reflectance(hi, self.eta, self.inv_eta);
             f * d_vis / (4.0 * hi.abs())
         } else {
+            // For the generalised half vector, wo is the refraction of wi: |wo.h| is the
+            // transmitted cosine, so Fresnel needs no square root.
+            let eta_t = if vis.inside() { self.inv_eta } else { self.eta };
+            let f = fresnel_dielectric_cosines(hi.abs(), ho.abs(), eta_t);
             let denom = n_i * hi + n_o * ho;
             (1.0 - f) * d_vis * ho.abs() * n_o * n_o / (denom * denom)
         }
@@ -511,20 +541,39 @@ fn check_unit(name: &'static str, value: f64) -> Result<f64, ParamError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bsdf::fresnel_dielectric;
+
+    /// The facet's Fresnel reflectance with the precomputed inverse index is the public
+    /// `fresnel_dielectric`, from either side, up to total internal reflection.
+    #[test]
+    fn reflectance_is_fresnel_dielectric() {
+        for eta in [1.51, 1.0 / 1.51, 3.0] {
+            for i in 0..=200 {
+                let c = -1.0 + 2.0 * i as f64 / 200.0;
+                let (f, r) = (reflectance(c, eta, 1.0 / eta), fresnel_dielectric(c, eta));
+                // Rounding only, amplified near the critical angle (1 / cos_t).
+                assert!((f - r).abs() < 1e-13, "eta {eta} cos {c}: {f} vs {r}");
+            }
+        }
+    }
 
     #[test]
     fn refraction_obeys_snell_and_round_trips() {
         let m = Vec3::new(0.3, -0.2, 0.9).normalize();
         let wi = Vec3::new(-0.5, 0.1, 0.7).normalize();
         for eta in [1.51, 1.0 / 1.51] {
-            let Some(wt) = refract(wi, m, eta) else {
+            let Some((wt, f)) = refract(wi, m, eta, 1.0 / eta) else {
                 continue;
             };
+            assert!((wt.norm() - 1.0).abs() < 1e-15);
+            assert!((f - fresnel_dielectric(wi.dot(&m), eta)).abs() < 1e-15);
             let (si, st) = (wi.cross(&m).norm(), wt.cross(&m).norm());
             assert!((si - eta * st).abs() < 1e-12);
             assert!(wt.dot(&m) < 0.0);
-            let back = refract(wt, m, eta).unwrap();
+            let (back, fb) = refract(wt, m, eta, 1.0 / eta).unwrap();
             assert!((back - wi).norm() < 1e-12);
+            // Fresnel reflectance is the same from both sides of a refraction.
+            assert!((fb - f).abs() < 1e-15);
         }
     }
 }
