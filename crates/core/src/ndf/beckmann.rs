@@ -1,7 +1,7 @@
 //! The Beckmann NDF.
 
 use super::special::{FRAC_1_SQRT_PI, SQRT_PI, erfc_and_gauss, erfcx_gap, lambda_beckmann_sq};
-use super::{Ndf, cos2_sin2};
+use super::{Ndf, cos2_sin2, lambda_on_sphere};
 use crate::error::{ParamError, check_alpha};
 use crate::math::Vec3;
 use rand::{Rng, RngExt};
@@ -206,13 +206,20 @@ fn slope_below(n: f64, u: f64) -> f64 {
 }
 
 impl Ndf for Beckmann {
-    /// `exp(-tan^2 / alpha^2 - 2 ln cos^2) / (pi alpha^2)`: zero, not NaN, at grazing normals.
+    /// `exp(-tan^2 / alpha^2) / (pi alpha^2 cos^4)`: zero, not NaN, at grazing normals (the
+    /// exponential underflows first; `1/cos^2` is applied twice so that `cos^4` cannot
+    /// underflow on its own).
     fn d(&self, wm: Vec3) -> f64 {
         let Some((u2, sin2)) = cos2_sin2(wm) else {
             return 0.0;
         };
         let ia2 = self.inv_alpha * self.inv_alpha;
-        (-sin2 / u2 * ia2 - 2.0 * u2.ln()).exp() * ia2 * std::f64::consts::FRAC_1_PI
+        let e = (-sin2 / u2 * ia2).exp();
+        if e == 0.0 {
+            return 0.0;
+        }
+        let inv_u2 = 1.0 / u2;
+        e * (ia2 * std::f64::consts::FRAC_1_PI) * inv_u2 * inv_u2
     }
 
     /// `(erf(a) - 1) / 2 + exp(-a^2) / (2 a sqrt(pi))`, `a = cot theta / alpha`, extended below
@@ -221,21 +228,15 @@ impl Ndf for Beckmann {
     /// ([`lambda_beckmann_sq`]). Where `a^2` underflows (within 1e-100 of the horizon) it is
     /// `1/(2 a sqrt(pi)) - 1/2`, exact to `O(a)`, with `a` formed directly.
     fn lambda(&self, w: Vec3) -> f64 {
-        let s2 = w.x * w.x + w.y * w.y;
-        if s2 == 0.0 {
-            return if w.z > 0.0 { 0.0 } else { -1.0 };
-        }
-        if w.z == 0.0 {
-            return f64::INFINITY;
-        }
-        let c = w.z.abs();
-        let a2 = c * c / s2 * (self.inv_alpha * self.inv_alpha);
-        let l = if a2 > 1e-200 {
-            lambda_beckmann_sq(a2)
-        } else {
-            0.5 * (FRAC_1_SQRT_PI * s2.sqrt() / (c * self.inv_alpha) - 1.0)
-        };
-        if w.z > 0.0 { l } else { -1.0 - l }
+        let ia2 = self.inv_alpha * self.inv_alpha;
+        lambda_on_sphere(w, |c, s2| {
+            let a2 = c * c / s2 * ia2;
+            if a2 > 1e-200 {
+                lambda_beckmann_sq(a2)
+            } else {
+                0.5 * (FRAC_1_SQRT_PI * s2.sqrt() / (c * self.inv_alpha) - 1.0)
+            }
+        })
     }
 
     fn sigma(&self, w: Vec3) -> f64 {

@@ -1,6 +1,6 @@
 //! The GGX (Trowbridge-Reitz) NDF.
 
-use super::{Ndf, cos2_sin2};
+use super::{Ndf, cos2_sin2, lambda_on_sphere};
 use crate::error::{ParamError, check_alpha};
 use crate::math::{Vec3, safe_sqrt};
 use rand::{Rng, RngExt};
@@ -43,10 +43,11 @@ impl Ndf for Ggx {
     /// square root and one division, no cancellation, and `+inf` at the horizon. Below the
     /// horizon `Lambda(-w) = -1 - Lambda(w)`.
     fn lambda(&self, w: Vec3) -> f64 {
-        let c = w.z.abs();
-        let t = self.alpha * self.alpha * (w.x * w.x + w.y * w.y);
-        let l = 0.5 * t / (c * ((c * c + t).sqrt() + c));
-        if w.z >= 0.0 { l } else { -1.0 - l }
+        let a2 = self.alpha * self.alpha;
+        lambda_on_sphere(w, |c, s2| {
+            let t = a2 * s2;
+            0.5 * t / (c * ((c * c + t).sqrt() + c))
+        })
     }
 
     /// `sigma = (w.z + sqrt(w.z^2 + alpha^2 sin^2 theta)) / 2`, valid on the whole sphere.
