@@ -29,6 +29,7 @@ impl Ggx {
 impl Ndf for Ggx {
     /// `alpha^2 / (pi (alpha^2 cos^2 + sin^2)^2)`, the same formula multiplied through by
     /// `cos^4` so that it stays finite (`1 / (pi alpha^2)`) at grazing normals.
+    #[inline]
     fn d(&self, wm: Vec3) -> f64 {
         let Some((u2, sin2)) = cos2_sin2(wm) else {
             return 0.0;
@@ -42,6 +43,7 @@ impl Ndf for Ggx {
     /// `r = sqrt(w.z^2 + alpha^2 sin^2 theta)` as `alpha^2 sin^2 / (2 |w.z| (r + |w.z|))`: one
     /// square root and one division, no cancellation, and `+inf` at the horizon. Below the
     /// horizon `Lambda(-w) = -1 - Lambda(w)`.
+    #[inline]
     fn lambda(&self, w: Vec3) -> f64 {
         let a2 = self.alpha * self.alpha;
         lambda_on_sphere(w, |c, s2| {
