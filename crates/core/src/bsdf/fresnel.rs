@@ -29,10 +29,18 @@ pub fn fresnel_dielectric(cos_i: f64, eta: f64) -> f64 {
 /// that need `cos_t` anyway (refraction).
 #[inline]
 pub(crate) fn fresnel_dielectric_cosines(cos_i: f64, cos_t: f64, eta: f64) -> f64 {
+    let (num, den) = fresnel_dielectric_fraction(cos_i, cos_t, eta);
+    num / den
+}
+
+/// [`fresnel_dielectric_cosines`] as a fraction `(num, den)`, `den > 0`, so that a sampler
+/// can compare `u * den < num` instead of waiting for the division.
+#[inline]
+pub(crate) fn fresnel_dielectric_fraction(cos_i: f64, cos_t: f64, eta: f64) -> (f64, f64) {
     let (s_num, s_den) = (cos_i - eta * cos_t, cos_i + eta * cos_t);
     let (p_num, p_den) = (eta * cos_i - cos_t, eta * cos_i + cos_t);
     let (s2, p2) = (s_den * s_den, p_den * p_den);
-    0.5 * (s_num * s_num * p2 + p_num * p_num * s2) / (s2 * p2)
+    (0.5 * (s_num * s_num * p2 + p_num * p_num * s2), s2 * p2)
 }
 
 /// Exact unpolarised Fresnel reflectance of a smooth conductor, relative complex index

@@ -5,7 +5,9 @@
 //! arrive at a facet from either side. Directions are in the macro-surface frame.
 
 use super::Microsurface;
-use crate::bsdf::{Bsdf, fresnel_conductor, fresnel_dielectric_cosines};
+use crate::bsdf::{
+    Bsdf, fresnel_conductor, fresnel_dielectric_cosines, fresnel_dielectric_fraction,
+};
 use crate::error::{ParamError, check_eta, finite};
 use crate::math::{Frame, Vec3, safe_sqrt};
 use crate::ndf::Ndf;
@@ -156,12 +158,13 @@ fn reflectance(cos_i: f64, eta: f64, inv_eta: f64) -> f64 {
 
 /// Refraction of `wi` through an interface of outward normal `m` with index `eta` below it and 1
 /// above (`inv_eta = 1 / eta`); `wi` may be on either side. Returns the refracted direction and
-/// the Fresnel reflectance of the interface for `wi`, from one square root (the transmitted
-/// cosine serves both), or `None` under total internal reflection. The refracted direction is
-/// unit up to rounding of its inputs; one Newton step for `1/|v|` about 1 removes that rounding
-/// (to second order) without a square root or a division.
+/// the Fresnel reflectance of the interface for `wi` as a fraction `(num, den)`, from one
+/// square root (the transmitted cosine serves both), or `None` under total internal
+/// reflection. The refracted direction is unit up to rounding of its inputs; one Newton step
+/// for `1/|v|` about 1 removes that rounding (to second order) without a square root or a
+/// division.
 #[inline]
-fn refract(wi: Vec3, m: Vec3, eta: f64, inv_eta: f64) -> Option<(Vec3, f64)> {
+fn refract(wi: Vec3, m: Vec3, eta: f64, inv_eta: f64) -> Option<(Vec3, (f64, f64))> {
     let cos_i = wi.dot(&m);
     // eta_t: index of the transmission side over that of the incident side.
     let (eta_t, inv_eta_t, n, cos_i) = if cos_i >= 0.0 {
@@ -177,7 +180,7 @@ fn refract(wi: Vec3, m: Vec3, eta: f64, inv_eta: f64) -> Option<(Vec3, f64)> {
     let cos_t = (1.0 - sin2_t).sqrt();
     let v = (n * cos_i - wi) * inv_eta_t - n * cos_t;
     let wo = v * (1.5 - 0.5 * v.norm_squared());
-    Some((wo, fresnel_dielectric_cosines(cos_i, cos_t, eta_t)))
+    Some((wo, fresnel_dielectric_fraction(cos_i, cos_t, eta_t)))
 }
 
 /// `v / |v|` as the outward normal of a facet that the walker of `vis` can hit
@@ -221,8 +224,9 @@ impl DielectricFacet {
 impl Facet for DielectricFacet {
     fn scatter<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample> {
         // Under total internal reflection the Fresnel reflectance is 1: no choice to draw.
+        // Refract with probability 1 - F, decided without dividing for F.
         let wo = match refract(wi, m, self.eta, self.inv_eta) {
-            Some((wt, f)) if rng.random::<f64>() >= f => wt,
+            Some((wt, (num, den))) if rng.random::<f64>() * den >= num => wt,
             _ => reflect(wi, m),
         };
         Some(FacetSample { wo, weight: 1.0 })
@@ -562,15 +566,17 @@ mod tests {
         let m = Vec3::new(0.3, -0.2, 0.9).normalize();
         let wi = Vec3::new(-0.5, 0.1, 0.7).normalize();
         for eta in [1.51, 1.0 / 1.51] {
-            let Some((wt, f)) = refract(wi, m, eta, 1.0 / eta) else {
+            let Some((wt, (num, den))) = refract(wi, m, eta, 1.0 / eta) else {
                 continue;
             };
+            let f = num / den;
             assert!((wt.norm() - 1.0).abs() < 1e-15);
             assert!((f - fresnel_dielectric(wi.dot(&m), eta)).abs() < 1e-15);
             let (si, st) = (wi.cross(&m).norm(), wt.cross(&m).norm());
             assert!((si - eta * st).abs() < 1e-12);
             assert!(wt.dot(&m) < 0.0);
-            let (back, fb) = refract(wt, m, eta, 1.0 / eta).unwrap();
+            let (back, (num, den)) = refract(wt, m, eta, 1.0 / eta).unwrap();
+            let fb = num / den;
             assert!((back - wi).norm() < 1e-12);
             // Fresnel reflectance is the same from both sides of a refraction.
             assert!((fb - f).abs() < 1e-15);
