@@ -19,22 +19,16 @@ pub fn fresnel_dielectric(cos_i: f64, eta: f64) -> f64 {
     if sin2_t >= 1.0 {
         return 1.0;
     }
-    fresnel_dielectric_cosines(cos_i, (1.0 - sin2_t).sqrt(), eta)
-}
-
-/// The unpolarised dielectric Fresnel reflectance `(rs^2 + rp^2) / 2` from the incident and
-/// transmitted cosines `cos_i, cos_t >= 0` and the relative index `eta` of the transmission
-/// side over the incident side: `rs = (cos_i - eta cos_t) / (cos_i + eta cos_t)`,
-/// `rp = (eta cos_i - cos_t) / (eta cos_i + cos_t)`, over one common division. For callers
-/// that need `cos_t` anyway (refraction).
-#[inline]
-pub(crate) fn fresnel_dielectric_cosines(cos_i: f64, cos_t: f64, eta: f64) -> f64 {
-    let (num, den) = fresnel_dielectric_fraction(cos_i, cos_t, eta);
+    let (num, den) = fresnel_dielectric_fraction(cos_i, (1.0 - sin2_t).sqrt(), eta);
     num / den
 }
 
-/// [`fresnel_dielectric_cosines`] as a fraction `(num, den)`, `den > 0`, so that a sampler
-/// can compare `u * den < num` instead of waiting for the division.
+/// The unpolarised dielectric Fresnel reflectance `(rs^2 + rp^2) / 2 = num / den` (`den > 0`)
+/// from the incident and transmitted cosines `cos_i, cos_t >= 0` and the relative index `eta`
+/// of the transmission side over the incident side: `rs = (cos_i - eta cos_t) / (cos_i + eta
+/// cos_t)`, `rp = (eta cos_i - cos_t) / (eta cos_i + cos_t)` over their common denominator.
+/// For callers that know `cos_t` anyway (refraction, transmission) and can fold the division
+/// into their own, or compare `u * den < num` for a sampling choice.
 #[inline]
 pub(crate) fn fresnel_dielectric_fraction(cos_i: f64, cos_t: f64, eta: f64) -> (f64, f64) {
     let (s_num, s_den) = (cos_i - eta * cos_t, cos_i + eta * cos_t);

@@ -22,8 +22,8 @@ mod rough_dielectric;
 mod smooth_conductor;
 mod smooth_dielectric;
 
+pub(crate) use fresnel::fresnel_dielectric_fraction;
 pub use fresnel::{fresnel_conductor, fresnel_dielectric};
-pub(crate) use fresnel::{fresnel_dielectric_cosines, fresnel_dielectric_fraction};
 pub use lambertian::Lambertian;
 pub use microfacet::{Masking, reflect, refract};
 pub use rough_conductor::RoughConductor;

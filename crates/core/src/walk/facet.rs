@@ -5,9 +5,7 @@
 //! arrive at a facet from either side. Directions are in the macro-surface frame.
 
 use super::Microsurface;
-use crate::bsdf::{
-    Bsdf, fresnel_conductor, fresnel_dielectric_cosines, fresnel_dielectric_fraction,
-};
+use crate::bsdf::{Bsdf, fresnel_conductor, fresnel_dielectric_fraction};
 use crate::error::{ParamError, check_eta, finite};
 use crate::math::{Frame, Vec3, safe_sqrt};
 use crate::ndf::Ndf;
@@ -140,10 +138,11 @@ fn reflect(wi: Vec3, m: Vec3) -> Vec3 {
 }
 
 /// The Fresnel reflectance of an interface of outward normal `m` with index `eta` below it and
-/// 1 above (`inv_eta = 1 / eta`) for light from the side of `cos_i = wi . m`:
-/// [`fresnel_dielectric`] with the inverse index precomputed.
+/// 1 above (`inv_eta = 1 / eta`) for light from the side of `cos_i = wi . m`, as a fraction
+/// `(num, den)`, `den > 0`: [`fresnel_dielectric`](crate::bsdf::fresnel_dielectric) with the
+/// inverse index precomputed.
 #[inline]
-fn reflectance(cos_i: f64, eta: f64, inv_eta: f64) -> f64 {
+fn reflectance_fraction(cos_i: f64, eta: f64, inv_eta: f64) -> (f64, f64) {
     let (cos_i, eta_t, inv_eta_t) = if cos_i >= 0.0 {
         (cos_i.min(1.0), eta, inv_eta)
     } else {
@@ -151,9 +150,9 @@ fn reflectance(cos_i: f64, eta: f64, inv_eta: f64) -> f64 {
     };
     let sin2_t = (1.0 - cos_i * cos_i) * (inv_eta_t * inv_eta_t);
     if sin2_t >= 1.0 {
-        return 1.0;
+        return (1.0, 1.0);
     }
-    fresnel_dielectric_cosines(cos_i, (1.0 - sin2_t).sqrt(), eta_t)
+    fresnel_dielectric_fraction(cos_i, (1.0 - sin2_t).sqrt(), eta_t)
 }
 
 /// Refraction of `wi` through an interface of outward normal `m` with index `eta` below it and 1
@@ -257,16 +256,17 @@ impl Facet for DielectricFacet {
         if d_vis == 0.0 {
             return 0.0;
         }
+        // F is divided out on its own, in parallel with the visible-normal density.
         if reflection {
-            let f = reflectance(hi, self.eta, self.inv_eta);
-            f * d_vis / (4.0 * hi.abs())
+            let (num, den) = reflectance_fraction(hi, self.eta, self.inv_eta);
+            (num / den) * d_vis / (4.0 * hi.abs())
         } else {
             // For the generalised half vector, wo is the refraction of wi: |wo.h| is the
             // transmitted cosine, so Fresnel needs no square root.
             let eta_t = if vis.inside() { self.inv_eta } else { self.eta };
-            let f = fresnel_dielectric_cosines(hi.abs(), ho.abs(), eta_t);
+            let (num, den) = fresnel_dielectric_fraction(hi.abs(), ho.abs(), eta_t);
             let denom = n_i * hi + n_o * ho;
-            (1.0 - f) * d_vis * ho.abs() * n_o * n_o / (denom * denom)
+            (1.0 - num / den) * d_vis * ho.abs() * n_o * n_o / (denom * denom)
         }
     }
 
@@ -554,7 +554,8 @@ mod tests {
         for eta in [1.51, 1.0 / 1.51, 3.0] {
             for i in 0..=200 {
                 let c = -1.0 + 2.0 * i as f64 / 200.0;
-                let (f, r) = (reflectance(c, eta, 1.0 / eta), fresnel_dielectric(c, eta));
+                let (num, den) = reflectance_fraction(c, eta, 1.0 / eta);
+                let (f, r) = (num / den, fresnel_dielectric(c, eta));
                 // Rounding only, amplified near the critical angle (1 / cos_t).
                 assert!((f - r).abs() < 1e-13, "eta {eta} cos {c}: {f} vs {r}");
             }
