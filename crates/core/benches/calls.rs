@@ -12,7 +12,9 @@
 //! done
 //! ```
 //!
-//! Without a row name (as under `cargo bench`) it lists the rows and exits.
+//! `walk/NDF/eval_many` runs one `eval_many` of N walks toward the 64 directions of the batch
+//! row (threads from `RAYON_NUM_THREADS`). Without a row name (as under `cargo bench`) it
+//! lists the rows and exits.
 
 use rand::SeedableRng;
 use rand_pcg::Pcg64;
@@ -42,6 +44,15 @@ fn run_ndf<N: Ndf>(ndf: N, op: &str, n: u64) -> bool {
         "lambda" => (0..n).for_each(|_| {
             black_box(ndf.lambda(black_box(w)));
         }),
+        "walk_eval_many" => {
+            // The batch row of walk.rs: 64 outgoing directions, N walks, threads from
+            // RAYON_NUM_THREADS.
+            let ms = Microsurface::new(ndf, DielectricFacet::new(1.51).unwrap());
+            let wos: Vec<Vec3> = (0..64)
+                .map(|k| spherical_direction(radians(100.0 + k as f64), 0.0))
+                .collect();
+            black_box(ms.eval_many(wi, &wos, n, 1));
+        }
         "walk_sample" | "walk_eval" => {
             let ms = Microsurface::new(ndf, DielectricFacet::new(1.51).unwrap());
             if op == "walk_sample" {
@@ -59,7 +70,7 @@ fn run_ndf<N: Ndf>(ndf: N, op: &str, n: u64) -> bool {
     true
 }
 
-const ROWS: [&str; 14] = [
+const ROWS: [&str; 15] = [
     "beckmann/sample_visible",
     "beckmann/lambda",
     "ggx/sample_visible",
@@ -72,6 +83,7 @@ const ROWS: [&str; 14] = [
     "walk/beckmann/eval",
     "walk/ggx/sample",
     "walk/ggx/eval",
+    "walk/ggx/eval_many",
     "walk/student-t/sample",
     "walk/student-t/eval",
 ];

@@ -90,7 +90,9 @@ impl<N: Ndf> VisibleNormals for HeightFieldHit<'_, N> {
         if c <= 0.0 || self.sigma.is_nan() || self.sigma <= 0.0 {
             return 0.0;
         }
-        c * self.ndf.d(m) / self.sigma
+        // 1/sigma does not depend on m: its division runs beside D's instead of after it.
+        let inv_sigma = 1.0 / self.sigma;
+        c * inv_sigma * self.ndf.d(m)
     }
 
     #[inline]
@@ -218,6 +220,41 @@ impl DielectricFacet {
     pub fn eta(&self) -> f64 {
         self.eta
     }
+
+    /// [`Facet::phase`] for the half vector `v` oriented to the walker's side, with
+    /// `inv_len = 1/|v|`.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    fn phase_at<V: VisibleNormals>(
+        &self,
+        vis: &V,
+        wo: Vec3,
+        v: Vec3,
+        inv_len: f64,
+        reflection: bool,
+        n_i: f64,
+        n_o: f64,
+    ) -> f64 {
+        let side = if vis.inside() { -1.0 } else { 1.0 };
+        // |v| times wi.h and wo.h.
+        let (vi, vo) = (vis.wi().dot(&v), wo.dot(&v));
+        // The facet must face the walker, and wo must leave it on the right side.
+        if side * vi <= 0.0 || (side * vo > 0.0) != reflection {
+            return 0.0;
+        }
+        let factor = if reflection {
+            let (num, den) = reflectance_fraction(vi * inv_len, self.eta, self.inv_eta);
+            num / (den * 4.0 * (vi * inv_len).abs())
+        } else {
+            // For the generalised half vector, wo is the refraction of wi: |wo.h| is the
+            // transmitted cosine, so Fresnel needs no square root.
+            let eta_t = if vis.inside() { self.inv_eta } else { self.eta };
+            let (num, den) = fresnel_dielectric_fraction(vi.abs(), vo.abs(), eta_t);
+            let d = n_i * vi + n_o * vo;
+            (den - num) * vo.abs() * n_o * n_o / (den * d * d * inv_len)
+        };
+        factor * vis.density(v * inv_len)
+    }
 }
 
 impl Facet for DielectricFacet {
@@ -234,40 +271,36 @@ impl Facet for DielectricFacet {
     /// Closed form (Walter et al. 2007 through the visible-normal density): with `h` the
     /// (generalised) half vector, reflection gives `F D_vis(h) / (4 |wi.h|)` and transmission
     /// `(1 - F) D_vis(h) |wo.h| n_o^2 / (n_i wi.h + n_o wo.h)^2`.
+    ///
+    /// Everything but `D_vis` is formed from the unnormalised half vector `v = |v| h`: the
+    /// transmission factor is `|wo.v| |v| n_o^2 / (n_i wi.v + n_o wo.v)^2`, and Fresnel's
+    /// `rs`, `rp` are ratios of linear forms in the two cosines, so unnormalised cosines give
+    /// the same reflectance. Only `h` for `D_vis` waits for the normalisation, whose square
+    /// root and division run side by side.
     fn phase<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, _rng: &mut R) -> f64 {
         let wi = vis.wi();
         let o_inside = wo.z < 0.0;
         let n_i = if vis.inside() { self.eta } else { 1.0 };
         let n_o = if o_inside { self.eta } else { 1.0 };
         let reflection = o_inside == vis.inside();
-        let h = if reflection {
-            facing_unit(wi + wo, vis)
+        let v = if reflection {
+            wi + wo
         } else {
-            facing_unit(-(wi * n_i + wo * n_o), vis)
+            -(wi * n_i + wo * n_o)
         };
-        let Some(h) = h else { return 0.0 };
-        let side = if vis.inside() { -1.0 } else { 1.0 };
-        let (hi, ho) = (wi.dot(&h), wo.dot(&h));
-        // The facet must face the walker, and wo must leave it on the right side.
-        if side * hi <= 0.0 || (side * ho > 0.0) != reflection {
-            return 0.0;
+        let n2 = v.norm_squared();
+        if !(n2 > 1e-300 && n2 < 1e300) {
+            // Degenerate (measure zero) or astronomically large half vectors: normalise first.
+            return match facing_unit(v, vis) {
+                Some(h) => self.phase_at(vis, wo, h, 1.0, reflection, n_i, n_o),
+                None => 0.0,
+            };
         }
-        let d_vis = vis.density(h);
-        if d_vis == 0.0 {
-            return 0.0;
-        }
-        // F is divided out on its own, in parallel with the visible-normal density.
-        if reflection {
-            let (num, den) = reflectance_fraction(hi, self.eta, self.inv_eta);
-            (num / den) * d_vis / (4.0 * hi.abs())
-        } else {
-            // For the generalised half vector, wo is the refraction of wi: |wo.h| is the
-            // transmitted cosine, so Fresnel needs no square root.
-            let eta_t = if vis.inside() { self.inv_eta } else { self.eta };
-            let (num, den) = fresnel_dielectric_fraction(hi.abs(), ho.abs(), eta_t);
-            let denom = n_i * hi + n_o * ho;
-            (1.0 - num / den) * d_vis * ho.abs() * n_o * n_o / (denom * denom)
-        }
+        // Orient v to the walker's side, as `facing_unit` would.
+        let v = if vis.wi_side().dot(&v) < 0.0 { -v } else { v };
+        let len = n2.sqrt();
+        let inv_len = len * (1.0 / n2);
+        self.phase_at(vis, wo, v, inv_len, reflection, n_i, n_o)
     }
 
     /// Sample weights are 1, so the sampling density is the phase function.
