@@ -5,7 +5,7 @@ use super::{Ndf, cos2_sin2, lambda_on_sphere};
 use crate::error::{ParamError, check_alpha};
 use crate::math::Vec3;
 use rand::{Rng, RngExt};
-use rand_distr::StandardNormal;
+use rand_distr::{Exp1, StandardNormal};
 use std::f64::consts::FRAC_1_SQRT_2;
 
 /// Beckmann: `D(u) = exp(-tan^2 theta / alpha^2) / (pi alpha^2 u^4)`; slopes are Gaussian with
@@ -127,12 +127,13 @@ fn facet_normal(x: f64, y: f64, cos_phi: f64, sin_phi: f64, inv_alpha: f64) -> V
 /// Draws the visible x-slope of the unit-roughness Beckmann surface seen from
 /// `cot theta = a >= 0`, density proportional to `p(x) = (a - x)_+ exp(-x^2)`, by rejection
 /// from the majorant `q(x) = ((-x)_+ + a) exp(-x^2)`: a half-Rayleigh lobe on `x < 0` (mass
-/// 1/2, drawn as `-sqrt(-ln U)`) plus a Gaussian `N(0, 1/2)` lobe (mass `a sqrt(pi)`). On
-/// `x < 0` the majorant is the density itself, so such draws are always kept; on `0 <= x <
-/// a` a draw is kept with probability `p/q = (a - x)/a`, beyond `a` never. The acceptance
-/// rate `G(a) / (1/2 + a sqrt(pi))`, with `G(a) = exp(-a^2)/2 + a sqrt(pi) (1 + erf a)/2`
-/// the mass of `p`, is 1 at `a = 0` and as `a -> inf` and at least 0.76 in between; no
-/// special function is evaluated. `a = +inf` (normal incidence) is the plain Gaussian.
+/// 1/2, drawn as `-sqrt(E)`, `E` a standard exponential variate by ziggurat) plus a Gaussian
+/// `N(0, 1/2)` lobe (mass `a sqrt(pi)`). On `x < 0` the majorant is the density itself, so
+/// such draws are always kept; on `0 <= x < a` a draw is kept with probability
+/// `p/q = (a - x)/a`, beyond `a` never. The acceptance rate `G(a) / (1/2 + a sqrt(pi))`, with
+/// `G(a) = exp(-a^2)/2 + a sqrt(pi) (1 + erf a)/2` the mass of `p`, is 1 at `a = 0` and as
+/// `a -> inf` and at least 0.76 in between; no special function is evaluated. `a = +inf`
+/// (normal incidence) is the plain Gaussian.
 #[inline]
 fn slope_above<R: Rng + ?Sized>(a: f64, rng: &mut R) -> f64 {
     if a == f64::INFINITY {
@@ -141,7 +142,7 @@ fn slope_above<R: Rng + ?Sized>(a: f64, rng: &mut R) -> f64 {
     let total = 0.5 + a * SQRT_PI;
     loop {
         if open_uniform(rng) * total < 0.5 {
-            return -(-open_uniform(rng).ln()).sqrt();
+            return -rng.sample::<f64, _>(Exp1).sqrt();
         }
         let x = rng.sample::<f64, _>(StandardNormal) * FRAC_1_SQRT_2;
         if x < 0.0 || (x < a && rng.random::<f64>() * a < a - x) {
