@@ -289,17 +289,17 @@ impl Facet for DielectricFacet {
             -(wi * n_i + wo * n_o)
         };
         let n2 = v.norm_squared();
-        if !(n2 > 1e-300 && n2 < 1e300) {
+        let (v, inv_len) = if n2 > 1e-300 && n2 < 1e300 {
+            // Oriented to the walker's side, as `facing_unit` would.
+            let v = if vis.wi_side().dot(&v) < 0.0 { -v } else { v };
+            (v, n2.sqrt() * (1.0 / n2))
+        } else {
             // Degenerate (measure zero) or astronomically large half vectors: normalise first.
-            return match facing_unit(v, vis) {
-                Some(h) => self.phase_at(vis, wo, h, 1.0, reflection, n_i, n_o),
-                None => 0.0,
-            };
-        }
-        // Orient v to the walker's side, as `facing_unit` would.
-        let v = if vis.wi_side().dot(&v) < 0.0 { -v } else { v };
-        let len = n2.sqrt();
-        let inv_len = len * (1.0 / n2);
+            match facing_unit(v, vis) {
+                Some(h) => (h, 1.0),
+                None => return 0.0,
+            }
+        };
         self.phase_at(vis, wo, v, inv_len, reflection, n_i, n_o)
     }
 
