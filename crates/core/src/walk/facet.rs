@@ -222,7 +222,8 @@ impl DielectricFacet {
     }
 
     /// [`Facet::phase`] for the half vector `v` oriented to the walker's side, with
-    /// `inv_len = 1/|v|`.
+    /// `n2 = |v|^2`. The geometric checks need only signs, so the normalisation waits until
+    /// they pass (for many directions they do not).
     #[inline]
     #[allow(clippy::too_many_arguments)]
     fn phase_at<V: VisibleNormals>(
@@ -230,7 +231,7 @@ impl DielectricFacet {
         vis: &V,
         wo: Vec3,
         v: Vec3,
-        inv_len: f64,
+        n2: f64,
         reflection: bool,
         n_i: f64,
         n_o: f64,
@@ -242,6 +243,8 @@ impl DielectricFacet {
         if side * vi <= 0.0 || (side * vo > 0.0) != reflection {
             return 0.0;
         }
+        // 1/|v| = sqrt(n2) / n2: the root and the division run side by side.
+        let inv_len = n2.sqrt() * (1.0 / n2);
         let factor = if reflection {
             let (num, den) = reflectance_fraction(vi * inv_len, self.eta, self.inv_eta);
             num / (den * 4.0 * (vi * inv_len).abs())
@@ -289,10 +292,9 @@ impl Facet for DielectricFacet {
             -(wi * n_i + wo * n_o)
         };
         let n2 = v.norm_squared();
-        let (v, inv_len) = if n2 > 1e-300 && n2 < 1e300 {
+        let (v, n2) = if n2 > 1e-300 && n2 < 1e300 {
             // Oriented to the walker's side, as `facing_unit` would.
-            let v = if vis.wi_side().dot(&v) < 0.0 { -v } else { v };
-            (v, n2.sqrt() * (1.0 / n2))
+            (if vis.wi_side().dot(&v) < 0.0 { -v } else { v }, n2)
         } else {
             // Degenerate (measure zero) or astronomically large half vectors: normalise first.
             match facing_unit(v, vis) {
@@ -300,7 +302,7 @@ impl Facet for DielectricFacet {
                 None => return 0.0,
             }
         };
-        self.phase_at(vis, wo, v, inv_len, reflection, n_i, n_o)
+        self.phase_at(vis, wo, v, n2, reflection, n_i, n_o)
     }
 
     /// Sample weights are 1, so the sampling density is the phase function.
