@@ -23,7 +23,7 @@ use stfit_core::Vec3;
 use stfit_core::bsdf::Bsdf;
 use stfit_core::math::{radians, spherical_direction};
 use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
-use stfit_core::walk::{DielectricFacet, Microsurface};
+use stfit_core::walk::{DielectricFacet, Estimator, Microsurface};
 
 /// Runs row `op` of NDF `ndf` `n` times; false if `op` is not one of its rows.
 fn run_ndf<N: Ndf>(ndf: N, op: &str, n: u64) -> bool {

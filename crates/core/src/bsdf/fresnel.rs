@@ -9,18 +9,27 @@ use nalgebra::Complex;
 /// negative `cos_i` means light arrives from below, where the relative index is `1 / eta`.
 /// Returns 1 under total internal reflection.
 pub fn fresnel_dielectric(cos_i: f64, eta: f64) -> f64 {
-    let (cos_i, eta) = if cos_i < 0.0 {
-        (-cos_i, 1.0 / eta)
-    } else {
-        (cos_i, eta)
-    };
-    let cos_i = cos_i.min(1.0);
-    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
-    if sin2_t >= 1.0 {
-        return 1.0;
-    }
-    let (num, den) = fresnel_dielectric_fraction(cos_i, (1.0 - sin2_t).sqrt(), eta);
+    let (num, den) = reflectance_fraction(cos_i, eta, 1.0 / eta);
     num / den
+}
+
+/// [`fresnel_dielectric`] as a fraction `(num, den)`, `den > 0`, with the inverse index
+/// `inv_eta = 1 / eta` precomputed: `(1, 1)` under total internal reflection, otherwise
+/// [`fresnel_dielectric_fraction`] of the incident cosine and the transmitted cosine from
+/// Snell's law. For callers that fold the division into their own or compare `u * den < num`
+/// for a sampling choice.
+#[inline]
+pub(crate) fn reflectance_fraction(cos_i: f64, eta: f64, inv_eta: f64) -> (f64, f64) {
+    let (cos_i, eta_t, inv_eta_t) = if cos_i >= 0.0 {
+        (cos_i.min(1.0), eta, inv_eta)
+    } else {
+        ((-cos_i).min(1.0), inv_eta, eta)
+    };
+    let sin2_t = (1.0 - cos_i * cos_i) * (inv_eta_t * inv_eta_t);
+    if sin2_t >= 1.0 {
+        return (1.0, 1.0);
+    }
+    fresnel_dielectric_fraction(cos_i, (1.0 - sin2_t).sqrt(), eta_t)
 }
 
 /// The unpolarised dielectric Fresnel reflectance `(rs^2 + rp^2) / 2 = num / den` (`den > 0`)

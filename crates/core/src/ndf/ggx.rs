@@ -7,6 +7,24 @@ use rand::{Rng, RngExt};
 use std::f64::consts::PI;
 
 /// GGX: `D(u) = alpha^2 / (pi u^4 (alpha^2 + tan^2 theta)^2)`, Student-T with gamma = 2.
+///
+/// ```
+/// use stfit_core::ndf::{Ggx, Ndf};
+/// use stfit_core::rand::SeedableRng;
+/// use stfit_core::Vec3;
+///
+/// let ggx = Ggx::new(0.3)?;
+/// let up = Vec3::new(0.0, 0.0, 1.0);
+/// // D at the pole is 1 / (pi alpha^2); nothing shadows a view from the normal.
+/// assert!((ggx.d(up) - 1.0 / (std::f64::consts::PI * 0.09)).abs() < 1e-12);
+/// assert_eq!(ggx.g1(up), 1.0);
+/// // Visible normals face the viewer and lie on the upper hemisphere.
+/// let w = Vec3::new(0.8, 0.0, 0.6);
+/// let mut rng = rand_pcg::Pcg64::seed_from_u64(1);
+/// let wm = ggx.sample_visible(w, &mut rng);
+/// assert!(w.dot(&wm) > 0.0 && wm.z > 0.0);
+/// # Ok::<(), stfit_core::ParamError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ggx {
     alpha: f64,
@@ -72,11 +90,8 @@ impl Ndf for Ggx {
     /// the unit disk (by rejection from its square, 4/pi tries on average) has a uniform
     /// azimuth and an independent uniform `s = x1^2 + x2^2`, which places the point's height
     /// `z = 1 - (1 + w_s.z) s` uniformly on the cap (Marsaglia 1972); its horizontal part is
-    /// `(x1, x2) sqrt((1 - z^2) / s)`. One square root and one division besides `l`.
+    /// `(x1, x2) sqrt((1 - z^2) / s)`.
     fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3 {
-        let a = self.alpha;
-        let ws = Vec3::new(a * w.x, a * w.y, w.z);
-        let l = ws.norm();
         let (x1, x2, s) = loop {
             let x1 = 2.0 * rng.random::<f64>() - 1.0;
             let x2 = 2.0 * rng.random::<f64>() - 1.0;
@@ -85,8 +100,50 @@ impl Ndf for Ggx {
                 break (x1, x2, s);
             }
         };
-        // In units of l: l (1 - z) = p = s (l + ws.z), l^2 (1 - z^2) / s = (l + ws.z) (2 l - p),
-        // without cancellation near the pole of the cap.
+        self.cap_normal(w, x1, x2, s)
+    }
+}
+
+impl Ggx {
+    /// The visible normal seen from `w` that the uniforms `u` in `[0, 1)^2` map to (pbrt-v4's
+    /// `TrowbridgeReitzDistribution::Sample_wm(w, u)`, with Dupuy and Benyoub 2023's
+    /// spherical cap in place of the disk): `u[0]` sets the azimuth about the stretched `w`,
+    /// `u[1]` the height on the cap. Uniform `u` gives exactly the density
+    /// [`Ndf::d_visible`], for every `w` on the sphere. [`Ndf::sample_visible`] draws the
+    /// same cap point from a uniform point of the unit disk instead, without trigonometry,
+    /// so the two do not map a generator's numbers to the same normals.
+    ///
+    /// ```
+    /// use stfit_core::Vec3;
+    /// use stfit_core::ndf::{Ggx, Ndf};
+    ///
+    /// let ggx = Ggx::new(0.3)?;
+    /// let w = Vec3::new(0.6, 0.0, 0.8);
+    /// let wm = ggx.sample_visible_from(w, [0.25, 0.5]);
+    /// assert!((wm.norm() - 1.0).abs() < 1e-12 && wm.z > 0.0 && w.dot(&wm) > 0.0);
+    /// assert!(ggx.d_visible(w, wm) > 0.0);
+    /// # Ok::<(), stfit_core::ParamError>(())
+    /// ```
+    pub fn sample_visible_from(&self, w: Vec3, u: [f64; 2]) -> Vec3 {
+        let (sp, cp) = (2.0 * PI * u[0]).sin_cos();
+        let r = u[1].sqrt();
+        self.cap_normal(w, r * cp, r * sp, u[1])
+    }
+
+    /// The visible normal seen from `w` for the point `(x1, x2)` of the unit disk with
+    /// `s = x1^2 + x2^2`: its azimuth is the azimuth about the stretched direction
+    /// `w_s = (alpha w.x, alpha w.y, w.z)` and `s` the uniform that places the height
+    /// `z = 1 - (1 + w_s.z) s` on the spherical cap (Dupuy and Benyoub 2023; Marsaglia 1972
+    /// for the disk's `s`). The cap is formed in units of the stretched length
+    /// `l = |w_s|`, so `w_s` is never normalised: `l (1 - z) = p = s (l + w_s.z)` and
+    /// `l^2 (1 - z^2) / s = (l + w_s.z) (2 l - p)`, without cancellation near the cap's pole.
+    /// The cap point plus `w_s` is unstretched to the normal. One square root and one
+    /// division besides `l`.
+    #[inline]
+    fn cap_normal(&self, w: Vec3, x1: f64, x2: f64, s: f64) -> Vec3 {
+        let a = self.alpha;
+        let ws = Vec3::new(a * w.x, a * w.y, w.z);
+        let l = ws.norm();
         let q = l + ws.z;
         let p = s * q;
         let r = safe_sqrt(q * (2.0 * l - p));

@@ -5,7 +5,7 @@
 //! arrive at a facet from either side. Directions are in the macro-surface frame.
 
 use super::Microsurface;
-use crate::bsdf::{Bsdf, fresnel_conductor, fresnel_dielectric_fraction};
+use crate::bsdf::{Bsdf, HalfVector, fresnel_conductor, reflect, refract_with_fresnel};
 use crate::error::{ParamError, check_eta, finite};
 use crate::math::{Frame, Vec3, safe_sqrt};
 use crate::ndf::Ndf;
@@ -133,70 +133,6 @@ pub trait Facet: Send + Sync {
     fn phase_pdf<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64;
 }
 
-/// Mirror reflection of `wi` about the unit normal `m` (either side).
-#[inline]
-fn reflect(wi: Vec3, m: Vec3) -> Vec3 {
-    m * (2.0 * wi.dot(&m)) - wi
-}
-
-/// The Fresnel reflectance of an interface of outward normal `m` with index `eta` below it and
-/// 1 above (`inv_eta = 1 / eta`) for light from the side of `cos_i = wi . m`, as a fraction
-/// `(num, den)`, `den > 0`: [`fresnel_dielectric`](crate::bsdf::fresnel_dielectric) with the
-/// inverse index precomputed.
-#[inline]
-fn reflectance_fraction(cos_i: f64, eta: f64, inv_eta: f64) -> (f64, f64) {
-    let (cos_i, eta_t, inv_eta_t) = if cos_i >= 0.0 {
-        (cos_i.min(1.0), eta, inv_eta)
-    } else {
-        ((-cos_i).min(1.0), inv_eta, eta)
-    };
-    let sin2_t = (1.0 - cos_i * cos_i) * (inv_eta_t * inv_eta_t);
-    if sin2_t >= 1.0 {
-        return (1.0, 1.0);
-    }
-    fresnel_dielectric_fraction(cos_i, (1.0 - sin2_t).sqrt(), eta_t)
-}
-
-/// Refraction of `wi` through an interface of outward normal `m` with index `eta` below it and 1
-/// above (`inv_eta = 1 / eta`); `wi` may be on either side. Returns the refracted direction and
-/// the Fresnel reflectance of the interface for `wi` as a fraction `(num, den)`, from one
-/// square root (the transmitted cosine serves both), or `None` under total internal
-/// reflection. The refracted direction is unit up to rounding of its inputs; one Newton step
-/// for `1/|v|` about 1 removes that rounding (to second order) without a square root or a
-/// division.
-#[inline]
-fn refract(wi: Vec3, m: Vec3, eta: f64, inv_eta: f64) -> Option<(Vec3, (f64, f64))> {
-    let cos_i = wi.dot(&m);
-    // eta_t: index of the transmission side over that of the incident side.
-    let (eta_t, inv_eta_t, n, cos_i) = if cos_i >= 0.0 {
-        (eta, inv_eta, m, cos_i)
-    } else {
-        (inv_eta, eta, -m, -cos_i)
-    };
-    let cos_i = cos_i.min(1.0);
-    let sin2_t = (1.0 - cos_i * cos_i) * (inv_eta_t * inv_eta_t);
-    if sin2_t >= 1.0 {
-        return None;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    let v = (n * cos_i - wi) * inv_eta_t - n * cos_t;
-    let wo = v * (1.5 - 0.5 * v.norm_squared());
-    Some((wo, fresnel_dielectric_fraction(cos_i, cos_t, eta_t)))
-}
-
-/// `v / |v|` as the outward normal of a facet that the walker of `vis` can hit
-/// (`wi_side . h > 0`), or `None` for a zero vector. For a height field the outward normal of a
-/// hit facet has `z > 0`; facets of a full-sphere NDF may face down.
-#[inline]
-fn facing_unit<V: VisibleNormals>(v: Vec3, vis: &V) -> Option<Vec3> {
-    let len = v.norm();
-    if len == 0.0 || !len.is_finite() {
-        return None;
-    }
-    let h = v * (1.0 / len);
-    Some(if vis.wi_side().dot(&h) < 0.0 { -h } else { h })
-}
-
 /// A smooth dielectric facet: index 1 above, `eta` below (`eta` may be below 1). Light is
 /// reflected with the exact Fresnel probability and refracted otherwise; sample weights are 1.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -220,51 +156,13 @@ impl DielectricFacet {
     pub fn eta(&self) -> f64 {
         self.eta
     }
-
-    /// [`Facet::phase`] for the half vector `v` oriented to the walker's side, with
-    /// `n2 = |v|^2`. The geometric checks need only signs, so the normalisation waits until
-    /// they pass (for many directions they do not).
-    #[inline]
-    #[allow(clippy::too_many_arguments)]
-    fn phase_at<V: VisibleNormals>(
-        &self,
-        vis: &V,
-        wo: Vec3,
-        v: Vec3,
-        n2: f64,
-        reflection: bool,
-        n_i: f64,
-        n_o: f64,
-    ) -> f64 {
-        let side = if vis.inside() { -1.0 } else { 1.0 };
-        // |v| times wi.h and wo.h.
-        let (vi, vo) = (vis.wi().dot(&v), wo.dot(&v));
-        // The facet must face the walker, and wo must leave it on the right side.
-        if side * vi <= 0.0 || (side * vo > 0.0) != reflection {
-            return 0.0;
-        }
-        // 1/|v| = sqrt(n2) / n2: the root and the division run side by side.
-        let inv_len = n2.sqrt() * (1.0 / n2);
-        let factor = if reflection {
-            let (num, den) = reflectance_fraction(vi * inv_len, self.eta, self.inv_eta);
-            num / (den * 4.0 * (vi * inv_len).abs())
-        } else {
-            // For the generalised half vector, wo is the refraction of wi: |wo.h| is the
-            // transmitted cosine, so Fresnel needs no square root.
-            let eta_t = if vis.inside() { self.inv_eta } else { self.eta };
-            let (num, den) = fresnel_dielectric_fraction(vi.abs(), vo.abs(), eta_t);
-            let d = n_i * vi + n_o * vo;
-            (den - num) * vo.abs() * n_o * n_o / (den * d * d * inv_len)
-        };
-        factor * vis.density(v * inv_len)
-    }
 }
 
 impl Facet for DielectricFacet {
     fn scatter<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample> {
         // Under total internal reflection the Fresnel reflectance is 1: no choice to draw.
         // Refract with probability 1 - F, decided without dividing for F.
-        let wo = match refract(wi, m, self.eta, self.inv_eta) {
+        let wo = match refract_with_fresnel(wi, m, self.eta, self.inv_eta) {
             Some((wt, (num, den))) if rng.random::<f64>() * den >= num => wt,
             _ => reflect(wi, m),
         };
@@ -273,36 +171,45 @@ impl Facet for DielectricFacet {
 
     /// Closed form (Walter et al. 2007 through the visible-normal density): with `h` the
     /// (generalised) half vector, reflection gives `F D_vis(h) / (4 |wi.h|)` and transmission
-    /// `(1 - F) D_vis(h) |wo.h| n_o^2 / (n_i wi.h + n_o wo.h)^2`.
+    /// `(1 - F) D_vis(h) |wo.h| n_o^2 / (n_i wi.h + n_o wo.h)^2`
+    /// ([`HalfVector::dielectric_weight`]).
     ///
-    /// Everything but `D_vis` is formed from the unnormalised half vector `v = |v| h`: the
-    /// transmission factor is `|wo.v| |v| n_o^2 / (n_i wi.v + n_o wo.v)^2`, and Fresnel's
-    /// `rs`, `rp` are ratios of linear forms in the two cosines, so unnormalised cosines give
-    /// the same reflectance. Only `h` for `D_vis` waits for the normalisation, whose square
-    /// root and division run side by side.
+    /// The geometric checks need only the signs of `wi.v` and `wo.v` for the unnormalised half
+    /// vector `v = |v| h`, so the normalisation (whose square root and division run side by
+    /// side) waits until they pass; for many directions they do not.
     fn phase<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, _rng: &mut R) -> f64 {
         let wi = vis.wi();
         let o_inside = wo.z < 0.0;
         let n_i = if vis.inside() { self.eta } else { 1.0 };
         let n_o = if o_inside { self.eta } else { 1.0 };
         let reflection = o_inside == vis.inside();
-        let v = if reflection {
-            wi + wo
-        } else {
-            -(wi * n_i + wo * n_o)
-        };
+        let v = HalfVector::unnormalised(wi, wo, n_i, n_o, reflection);
         let n2 = v.norm_squared();
         let (v, n2) = if n2 > 1e-300 && n2 < 1e300 {
-            // Oriented to the walker's side, as `facing_unit` would.
+            // Oriented to the walker's side, as `HalfVector::of_pair` would.
             (if vis.wi_side().dot(&v) < 0.0 { -v } else { v }, n2)
         } else {
             // Degenerate (measure zero) or astronomically large half vectors: normalise first.
-            match facing_unit(v, vis) {
-                Some(h) => (h, 1.0),
+            match HalfVector::of_pair(wi, wo, n_i, n_o, reflection, vis.wi_side()) {
+                Some(hv) => (hv.h, 1.0),
                 None => return 0.0,
             }
         };
-        self.phase_at(vis, wo, v, n2, reflection, n_i, n_o)
+        let side = if vis.inside() { -1.0 } else { 1.0 };
+        // |v| times wi.h and wo.h.
+        let (vi, vo) = (wi.dot(&v), wo.dot(&v));
+        // The facet must face the walker, and wo must leave it on the right side.
+        if side * vi <= 0.0 || (side * vo > 0.0) != reflection {
+            return 0.0;
+        }
+        // 1/|v| = sqrt(n2) / n2: the root and the division run side by side.
+        let inv_len = n2.sqrt() * (1.0 / n2);
+        let hv = HalfVector::from_scaled(v, vi, vo, inv_len, n_i, n_o, reflection);
+        let d_vis = vis.density(hv.h);
+        if d_vis == 0.0 {
+            return 0.0;
+        }
+        d_vis * hv.dielectric_weight(self.eta, self.inv_eta)
     }
 
     /// Sample weights are 1, so the sampling density is the phase function.
@@ -391,15 +298,14 @@ impl Facet for ConductorFacet {
         if (wo.z < 0.0) != vis.inside() {
             return 0.0;
         }
-        let Some(h) = facing_unit(vis.wi() + wo, vis) else {
+        let Some(hv) = HalfVector::of_pair(vis.wi(), wo, 1.0, 1.0, true, vis.wi_side()) else {
             return 0.0;
         };
-        let hi = vis.wi().dot(&h);
-        let d_vis = vis.density(h);
+        let d_vis = vis.density(hv.h);
         if d_vis == 0.0 {
             return 0.0;
         }
-        d_vis / (4.0 * hi.abs())
+        d_vis * hv.jacobian()
     }
 }
 
@@ -574,48 +480,5 @@ fn check_unit(name: &'static str, value: f64) -> Result<f64, ParamError> {
             value,
             expected: "in [0, 1]",
         })
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::bsdf::fresnel_dielectric;
-
-    /// The facet's Fresnel reflectance with the precomputed inverse index is the public
-    /// `fresnel_dielectric`, from either side, up to total internal reflection.
-    #[test]
-    fn reflectance_is_fresnel_dielectric() {
-        for eta in [1.51, 1.0 / 1.51, 3.0] {
-            for i in 0..=200 {
-                let c = -1.0 + 2.0 * i as f64 / 200.0;
-                let (num, den) = reflectance_fraction(c, eta, 1.0 / eta);
-                let (f, r) = (num / den, fresnel_dielectric(c, eta));
-                // Rounding only, amplified near the critical angle (1 / cos_t).
-                assert!((f - r).abs() < 1e-13, "eta {eta} cos {c}: {f} vs {r}");
-            }
-        }
-    }
-
-    #[test]
-    fn refraction_obeys_snell_and_round_trips() {
-        let m = Vec3::new(0.3, -0.2, 0.9).normalize();
-        let wi = Vec3::new(-0.5, 0.1, 0.7).normalize();
-        for eta in [1.51, 1.0 / 1.51] {
-            let Some((wt, (num, den))) = refract(wi, m, eta, 1.0 / eta) else {
-                continue;
-            };
-            let f = num / den;
-            assert!((wt.norm() - 1.0).abs() < 1e-15);
-            assert!((f - fresnel_dielectric(wi.dot(&m), eta)).abs() < 1e-15);
-            let (si, st) = (wi.cross(&m).norm(), wt.cross(&m).norm());
-            assert!((si - eta * st).abs() < 1e-12);
-            assert!(wt.dot(&m) < 0.0);
-            let (back, (num, den)) = refract(wt, m, eta, 1.0 / eta).unwrap();
-            let fb = num / den;
-            assert!((back - wi).norm() < 1e-12);
-            // Fresnel reflectance is the same from both sides of a refraction.
-            assert!((fb - f).abs() < 1e-15);
-        }
     }
 }
