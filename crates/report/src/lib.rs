@@ -262,11 +262,13 @@ pub fn render_report(
     for (title, checks) in &rmse_checks {
         for &(fit, recomputed) in checks {
             let stored = fit.rmse_sqrt_l;
-            if (recomputed - stored).abs() > RMSE_TOLERANCE * stored.abs().max(1e-3) {
+            // Negated so that a NaN on either side warns too.
+            if !((recomputed - stored).abs() <= RMSE_TOLERANCE * stored.abs().max(1e-3)) {
                 warnings.push(format!(
-                    "sample `{title}`, {}: the stored rmse of the square root of the data is {} \
+                    "sample `{}`, {}: the stored rmse of the square root of the data is {} \
                      but the data and the fitted model ({}, eta {}) give {}; the fit may come \
                      from other data",
+                    stfit_fit::short(title),
                     ModelSlot::of(fit).title(),
                     fmt_sig(stored, 6),
                     model_description(&fit.model),
