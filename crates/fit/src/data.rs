@@ -18,8 +18,7 @@ use crate::conventions::{
 pub fn short(text: &str) -> String {
     const MAX: usize = 60;
     let mut out = String::new();
-    let mut shown = 0;
-    for c in text.chars() {
+    for (shown, c) in text.chars().enumerate() {
         if shown == MAX {
             out.push_str(&format!("... ({} characters)", text.chars().count()));
             return out;
@@ -29,7 +28,6 @@ pub fn short(text: &str) -> String {
         } else {
             out.push(c);
         }
-        shown += 1;
     }
     out
 }

@@ -262,8 +262,9 @@ pub fn render_report(
     for (title, checks) in &rmse_checks {
         for &(fit, recomputed) in checks {
             let stored = fit.rmse_sqrt_l;
-            // Negated so that a NaN on either side warns too.
-            if !((recomputed - stored).abs() <= RMSE_TOLERANCE * stored.abs().max(1e-3)) {
+            // A NaN on either side warns too.
+            let gap = (recomputed - stored).abs();
+            if gap.is_nan() || gap > RMSE_TOLERANCE * stored.abs().max(1e-3) {
                 warnings.push(format!(
                     "sample `{}`, {}: the stored rmse of the square root of the data is {} \
                      but the data and the fitted model ({}, eta {}) give {}; the fit may come \
