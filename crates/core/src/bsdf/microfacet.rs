@@ -23,7 +23,7 @@ pub enum Masking {
 impl Masking {
     /// `G` for reflection from `a_i = 1 + Lambda(wi')` and `a_o = 1 + Lambda(wo')`.
     #[inline]
-    pub(crate) fn g_reflection(self, a_i: f64, a_o: f64) -> f64 {
+    pub fn g_reflection(self, a_i: f64, a_o: f64) -> f64 {
         match self {
             Self::Separable => 1.0 / (a_i * a_o),
             Self::Correlated => 1.0 / (a_i + a_o - 1.0),
@@ -32,7 +32,7 @@ impl Masking {
 
     /// `G` for transmission from `a_i = 1 + Lambda(wi')` and `a_o = 1 + Lambda(wo')`.
     #[inline]
-    pub(crate) fn g_transmission(self, a_i: f64, a_o: f64) -> f64 {
+    pub fn g_transmission(self, a_i: f64, a_o: f64) -> f64 {
         match self {
             Self::Separable => 1.0 / (a_i * a_o),
             Self::Correlated => beta_fn(a_i, a_o),
