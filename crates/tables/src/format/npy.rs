@@ -1,0 +1,72 @@
+//! NumPy `.npy` (format version 1.0, written by hand): one structured array with one record
+//! per cell and the shape of the table (see `tables-format.md`).
+
+use super::{has_gamma, index_columns, quantity_columns, rows};
+use crate::compute::Table;
+use crate::spec::Surface;
+
+/// The `.npy` bytes of a table: a C-ordered structured array of shape `(sides, gamma, eta,
+/// mu, alpha)` (an axis that does not apply has length 1) whose records hold `side` (`|u1`: 0
+/// outside, 1 inside), the cell's `alpha`, `gamma` (not for Beckmann), `eta` (not for
+/// mirrors), `k` (conductors), `mu`, then the quantities of [`super::quantity_columns`], each
+/// little-endian `f8`.
+pub fn write(table: &Table) -> Vec<u8> {
+    let spec = &table.spec;
+    let quantities = quantity_columns(spec);
+    let gamma = has_gamma(spec);
+    let eta = spec.surface != Surface::Mirror;
+    let k = matches!(spec.surface, Surface::Conductor { .. });
+    let mut fields: Vec<(&str, &str)> = vec![("side", "|u1"), ("alpha", "<f8")];
+    if gamma {
+        fields.push(("gamma", "<f8"));
+    }
+    if eta {
+        fields.push(("eta", "<f8"));
+    }
+    if k {
+        fields.push(("k", "<f8"));
+    }
+    fields.push(("mu", "<f8"));
+    fields.extend(quantities.iter().map(|c| (c.name, "<f8")));
+    let descr: Vec<String> = fields
+        .iter()
+        .map(|(name, ty)| format!("('{name}', '{ty}')"))
+        .collect();
+    let shape: Vec<String> = spec.shape().iter().map(|n| n.to_string()).collect();
+    let mut header = format!(
+        "{{'descr': [{}], 'fortran_order': False, 'shape': ({}), }}",
+        descr.join(", "),
+        shape.join(", ")
+    );
+    // Magic (6) + version (2) + header length (2) + header, padded with spaces and ended by a
+    // newline to a multiple of 64 bytes.
+    let unpadded = 10 + header.len() + 1;
+    header.push_str(&" ".repeat(unpadded.next_multiple_of(64) - unpadded));
+    header.push('\n');
+    let record = 1 + 8 * (fields.len() - 1);
+    let mut out = Vec::with_capacity(10 + header.len() + record * spec.cells());
+    out.extend_from_slice(b"\x93NUMPY\x01\x00");
+    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    out.extend_from_slice(header.as_bytes());
+    for row in rows(table) {
+        let line = row.line;
+        let (eta_value, k_value) = index_columns(spec, line);
+        out.push(line.side as u8);
+        let mut put = |v: f64| out.extend_from_slice(&v.to_le_bytes());
+        put(spec.alpha.values[line.alpha]);
+        if gamma {
+            put(spec.gamma_value(line).unwrap_or(2.0));
+        }
+        if eta {
+            put(eta_value.unwrap_or(0.0));
+        }
+        if k {
+            put(k_value.unwrap_or(0.0));
+        }
+        put(row.mu);
+        for c in &quantities {
+            put((c.get)(&row));
+        }
+    }
+    out
+}
