@@ -291,3 +291,21 @@ fn near_specular_surfaces_conserve_energy_in_single_scattering() {
         );
     }
 }
+
+#[test]
+fn ggx_mirror_at_alpha_1_reflects_one_minus_ln_2_at_normal_incidence() {
+    // At alpha = 1, D = 1/pi; at normal incidence Lambda_i = 0 and the reflection of a facet
+    // at theta leaves at 2 theta with 1 + Lambda_o = (1 + 1/cos 2theta) / 2, so
+    // E = integral_0^1 u / (1 + u) du = 1 - ln 2 (u = cos 2theta).
+    let e = single_scattering(
+        &Ggx::new(1.0).unwrap(),
+        Interface::Conductor(ConductorFacet::mirror()),
+        TableMasking::Correlated,
+        1.0,
+        &Quadrature::default(),
+    );
+    assert!(
+        (e.total() - (1.0 - std::f64::consts::LN_2)).abs() < 1e-12,
+        "{e:?}"
+    );
+}
