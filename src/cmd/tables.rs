@@ -272,8 +272,12 @@ fn spec(a: &TableArgs) -> Result<TableSpec, CmdError> {
     Ok(spec)
 }
 
+/// An invalid specification is a usage error (exit 2); a failed computation is not.
 fn spec_error(e: SpecError) -> CmdError {
-    usage(e.to_string())
+    match e {
+        SpecError::NotFinite(m) => CmdError::Failed(m),
+        e => usage(e.to_string()),
+    }
 }
 
 /// Writes `bytes` to `path`.

@@ -152,7 +152,7 @@ pub fn compute(
         })
         .collect();
     let mut cells = cells.into_iter();
-    lines
+    let out: Vec<LineResult> = lines
         .iter()
         .zip(averages)
         .map(|(&index, average)| {
@@ -162,7 +162,57 @@ pub fn compute(
                 cells: cells.by_ref().take(n_mu).collect::<Result<_, _>>()?,
             })
         })
-        .collect()
+        .collect::<Result<_, SpecError>>()?;
+    for line in &out {
+        check_finite(spec, line)?;
+    }
+    Ok(out)
+}
+
+/// Refuses a line with a value that is not finite, naming the cell, so that no file ever
+/// holds NaN or inf.
+fn check_finite(spec: &TableSpec, line: &LineResult) -> Result<(), SpecError> {
+    let albedo = |a: &Albedo| [a.reflected, a.transmitted];
+    let value = |v: &Value| [v.mean, v.stderr];
+    let l = spec.line(line.index);
+    let at = |mu: Option<f64>| {
+        let mut s = format!(
+            "side {}, alpha {}",
+            spec.sides[l.side].name(),
+            spec.alpha.values[l.alpha]
+        );
+        if let Some(g) = spec.gamma_value(l) {
+            s += &format!(", gamma {g}");
+        }
+        if let Some(e) = spec.eta_value(l) {
+            s += &format!(", eta {e}");
+        }
+        match mu {
+            Some(mu) => s + &format!(", mu {mu}"),
+            None => s + " (E_avg)",
+        }
+    };
+    if !albedo(&line.average).iter().all(|v| v.is_finite()) {
+        return Err(SpecError::NotFinite(format!(
+            "a value is not finite at {}",
+            at(None)
+        )));
+    }
+    for (y, c) in line.cells.iter().enumerate() {
+        let mut values = albedo(&c.single).to_vec();
+        if let Some(w) = &c.walk {
+            for v in [&w.reflected, &w.transmitted, &w.total] {
+                values.extend(value(v));
+            }
+        }
+        if !values.iter().all(|v| v.is_finite()) {
+            return Err(SpecError::NotFinite(format!(
+                "a value is not finite at {}",
+                at(Some(spec.mu.values[y]))
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// The whole table.

@@ -12,6 +12,10 @@ pub enum SpecError {
     /// An option does not apply, is missing, or contradicts another.
     #[error("{0}")]
     Invalid(String),
+    /// A computed value is not finite: reported instead of written (a failure of the
+    /// computation, not of the caller's arguments).
+    #[error("{0}")]
+    NotFinite(String),
 }
 
 /// A shard file that cannot be merged.

@@ -249,13 +249,15 @@ fn the_files_hold_the_same_numbers_in_the_documented_layouts() {
     let (dict, data) = npy_parts(&npy);
     assert!(dict.contains("'fortran_order': False"), "{dict}");
     assert!(dict.contains("'shape': (2, 2, 1, 2, 2)"), "{dict}");
-    assert!(dict.starts_with("{'descr': [('side', '|u1'), ('alpha', '<f8'), ('gamma', '<f8'), ('eta', '<f8'), ('mu', '<f8'), ('E_ss', '<f8')"), "{dict}");
+    assert!(dict.starts_with("{'descr': [('side', '|u1'), ('surface', '|S10'), ('ndf', '|S9'), ('masking', '|S15'), ('alpha', '<f8'), ('gamma', '<f8'), ('eta', '<f8'), ('mu', '<f8'), ('E_ss', '<f8')"), "{dict}");
     let fields = dict.matches("'<f8'").count();
-    let record = 1 + 8 * fields;
+    let record = 1 + 34 + 8 * fields;
     assert_eq!(data.len(), record * s.cells());
     for (i, rec) in data.chunks(record).enumerate() {
         assert_eq!(rec[0], u8::from(i >= 8), "side of record {i}");
-        let field = |k: usize| f64::from_le_bytes(rec[1 + 8 * k..9 + 8 * k].try_into().unwrap());
+        // surface |S10, ndf |S9, masking |S15: NUL-padded.
+        assert_eq!(&rec[1..35], b"dielectricstudent-tcorrelated\0\0\0\0\0", "text of record {i}");
+        let field = |k: usize| f64::from_le_bytes(rec[35 + 8 * k..43 + 8 * k].try_into().unwrap());
         assert_eq!(field(4), e_ss[i], "E_ss of record {i}");
         assert_eq!(
             field(3),
