@@ -1,10 +1,12 @@
 //! The `stfit` command line: `stfit DATA [flags]` fits microfacet models to measured
 //! transmission through rough glass; subcommands do the rest. Each subcommand is one variant of
-//! [`Command`] and one module under `cmd/` with an `Args` struct and a `run` function.
+//! [`Command`] and one module under `cmd/` with an `Args` struct and a `run` function. The
+//! commands only parse arguments and print: the work is done by the library crates.
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::parser::ValueSource;
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 mod cmd;
 
@@ -31,8 +33,8 @@ struct Cli {
 enum Command {
     /// Write synthetic measurements of a known model in the data format.
     Synth(cmd::synth::SynthArgs),
-    /// Evaluate the single-scattering rough dielectric BSDF (f * |wo.z|) for directions read
-    /// as CSV on stdin.
+    /// Evaluate the BSDF (f * |wo.z|) of a rough surface for direction pairs read as CSV on
+    /// stdin: in closed form for single scattering, else by random walk with standard errors.
     Eval(cmd::eval::Args),
     /// Fractions of the incident flux a rough surface reflects and transmits, by random walk
     /// (height-field NDFs, or vmf/porous with --walk null).
@@ -45,14 +47,42 @@ enum Command {
     Report(cmd::report::ReportArgs),
 }
 
+/// The fit options of `stfit report` given on its command line (not defaulted), as flags.
+fn given_fit_flags(matches: &clap::ArgMatches) -> Vec<String> {
+    let Some(report) = matches.subcommand_matches("report") else {
+        return Vec::new();
+    };
+    let ids = [
+        "model",
+        "gamma",
+        "eta",
+        "scale",
+        "loss",
+        "log_floor",
+        "optimizer",
+        "masking",
+        "orders",
+        "walks",
+        "seed",
+    ];
+    ids.iter()
+        .filter(|id| report.value_source(id) == Some(ValueSource::CommandLine))
+        .map(|id| format!("--{id}"))
+        .collect()
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let matches = Cli::command().get_matches();
+    let cli = match Cli::from_arg_matches(&matches) {
+        Ok(cli) => cli,
+        Err(e) => e.exit(),
+    };
     let result = match cli.command {
         None => cmd::fit::run(cli.fit),
         Some(Command::Synth(args)) => cmd::synth::run(args),
         Some(Command::Eval(args)) => cmd::eval::run(&args),
         Some(Command::Albedo(args)) => cmd::albedo::run(&args),
-        Some(Command::Report(args)) => cmd::report::run(args),
+        Some(Command::Report(args)) => cmd::report::run(args, &given_fit_flags(&matches)),
         Some(Command::Tables(args)) => cmd::tables::run(*args),
     };
     match result {

@@ -1,12 +1,9 @@
 //! End-to-end tests of `stfit albedo`.
 
-use std::process::{Command, Output};
+use stfit_test_support::{Cli, Run};
 
-fn stfit(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_stfit"))
-        .args(args)
-        .output()
-        .expect("the stfit binary runs")
+fn stfit(args: &[&str]) -> Run {
+    Cli::new(env!("CARGO_BIN_EXE_stfit")).run(args)
 }
 
 fn albedo_json(extra: &[&str]) -> serde_json::Value {
@@ -15,23 +12,15 @@ fn albedo_json(extra: &[&str]) -> serde_json::Value {
         "--json",
         "--walk",
         "heightfield",
-        "--samples",
+        "--walks",
         "40000",
     ];
     args.extend_from_slice(extra);
     let out = stfit(&args);
-    assert!(
-        out.status.success(),
-        "stfit {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.code == Some(0), "stfit {args:?} failed: {}", out.stderr);
     // Piped output: no progress bar or other noise on stderr.
-    assert!(
-        out.stderr.is_empty(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
+    assert!(out.stderr.is_empty(), "{}", out.stderr);
+    serde_json::from_str(&out.stdout).expect("one JSON object on stdout")
 }
 
 fn num(v: &serde_json::Value, key: &str) -> f64 {
@@ -95,7 +84,7 @@ fn single_plus_multiple_is_all_and_same_seed_repeats() {
     ];
     let run = |s: &str, seed: &str| {
         let mut a = base.to_vec();
-        a.extend_from_slice(&["--scattering", s, "--seed", seed]);
+        a.extend_from_slice(&["--orders", s, "--seed", seed]);
         albedo_json(&a)
     };
     let all = run("all", "3");
@@ -126,17 +115,13 @@ fn null_walk_agrees_with_the_height_field_walk() {
             "1.51",
             "--theta-i",
             "50",
-            "--samples",
+            "--walks",
             "40000",
             "--walk",
             walk,
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+        assert!(out.code == Some(0), "{}", out.stderr.clone());
+        serde_json::from_str::<serde_json::Value>(&out.stdout).unwrap()
     };
     let (hf, null) = (run("heightfield"), run("null"));
     let se =
@@ -157,11 +142,11 @@ fn text_output_reports_both_fractions() {
         "1.5",
         "--theta-i",
         "0",
-        "--samples",
+        "--walks",
         "5000",
     ]);
-    assert!(out.status.success());
-    let text = String::from_utf8(out.stdout).unwrap();
+    assert!((out.code == Some(0)));
+    let text = out.stdout;
     assert!(
         text.contains("reflectance") && text.contains("transmittance"),
         "{text}"
@@ -191,13 +176,13 @@ fn bad_arguments_are_errors() {
         (&["--gamma", "3"], "gamma"),
         (&["--ndf", "student-t"], "gamma"),
         (&["--ndf", "student-t", "--gamma", "1.5"], "gamma"),
-        (&["--scattering", "double"], "scattering"),
+        (&["--orders", "double"], "orders"),
         (&["--walk", "volume"], "walk"),
         (
             &["--walk", "null", "--ndf", "student-t", "--gamma", "1.8"],
-            "bound",
+            "majorant",
         ),
-        (&["--samples", "0"], "samples"),
+        (&["--walks", "0"], "walks"),
     ];
     for (over, word) in cases {
         // The valid arguments, with those named in `over` replaced.
@@ -209,8 +194,8 @@ fn bad_arguments_are_errors() {
         }
         args.extend_from_slice(over);
         let out = stfit(&args);
-        assert!(!out.status.success(), "{args:?} succeeded");
-        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.code != Some(0), "{args:?} succeeded");
+        let err = out.stderr.clone();
         assert!(err.contains(word), "{args:?}: {err}");
         assert!(out.stdout.is_empty(), "{args:?}");
     }
@@ -218,28 +203,11 @@ fn bad_arguments_are_errors() {
 
 /// Runs `stfit eval` with `args` on CSV `input`; returns the appended columns of each row.
 fn eval_rows(args: &[&str], input: &str) -> Vec<Vec<f64>> {
-    use std::io::Write;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_stfit"))
-        .arg("eval")
-        .args(args)
-        .stdin(std::process::Stdio::piped())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("the stfit binary runs");
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(input.as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8(out.stdout).unwrap();
+    let mut all = vec!["eval"];
+    all.extend_from_slice(args);
+    let out = Cli::new(env!("CARGO_BIN_EXE_stfit")).run_with_stdin(&all, input);
+    assert!(out.code == Some(0), "{}", out.stderr);
+    let text = out.stdout;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     assert_eq!(header[6], "f_cos");
@@ -261,8 +229,8 @@ fn eval_scattering_orders_add_up() {
         eval_rows(&a, input)
     };
     let single = run(&["--masking", "correlated"]);
-    let multi = run(&["--scattering", "multiple", "--samples", "40000"]);
-    let all = run(&["--scattering", "all", "--samples", "40000", "--seed", "9"]);
+    let multi = run(&["--orders", "multiple", "--walks", "40000"]);
+    let all = run(&["--orders", "all", "--walks", "40000", "--seed", "9"]);
     for k in 0..2 {
         assert_eq!(single[k].len(), 1);
         assert_eq!(all[k].len(), 2, "f_cos and f_cos_stderr");
@@ -278,12 +246,8 @@ fn albedo_json_with(args: &[&str]) -> serde_json::Value {
     let mut all = vec!["albedo", "--json"];
     all.extend_from_slice(args);
     let out = stfit(&all);
-    assert!(
-        out.status.success(),
-        "stfit {all:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
+    assert!(out.code == Some(0), "stfit {all:?} failed: {}", out.stderr);
+    serde_json::from_str(&out.stdout).expect("one JSON object on stdout")
 }
 
 #[test]
@@ -322,7 +286,7 @@ fn full_sphere_ndfs_with_lossless_facets_reflect_everything() {
         ],
     ];
     for case in cases {
-        let mut args = vec!["--walk", "null", "--theta-i", "50", "--samples", "20000"];
+        let mut args = vec!["--walk", "null", "--theta-i", "50", "--walks", "20000"];
         args.extend_from_slice(case);
         let v = albedo_json_with(&args);
         let (r, se) = (num(&v, "reflectance"), num(&v, "reflectance_stderr"));
@@ -339,7 +303,7 @@ fn full_sphere_ndfs_with_lossless_facets_reflect_everything() {
         "null",
         "--theta-i",
         "50",
-        "--samples",
+        "--walks",
         "20000",
         "--ndf",
         "vmf",
@@ -368,7 +332,7 @@ fn porous_without_pores_is_the_height_field() {
         "3",
         "--theta-i",
         "60",
-        "--samples",
+        "--walks",
         "40000",
     ];
     let mut null = vec![
@@ -482,7 +446,7 @@ fn bad_full_sphere_arguments_are_usage_errors() {
     ];
     for (over, word) in cases {
         // The valid vMF arguments, with the options named in `over` replaced.
-        let mut args = vec!["albedo", "--theta-i", "30", "--samples", "100"];
+        let mut args = vec!["albedo", "--theta-i", "30", "--walks", "100"];
         let mut k = 0;
         while k < vmf.len() {
             // A new --ndf drops the vMF's --kappa too.
@@ -495,8 +459,8 @@ fn bad_full_sphere_arguments_are_usage_errors() {
         }
         args.extend_from_slice(over);
         let out = stfit(&args);
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
-        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.code, Some(2), "{args:?}");
+        let err = out.stderr.clone();
         assert!(err.contains(word), "{args:?}: {err}");
         assert!(!err.contains("panicked"), "{args:?}: {err}");
         assert!(out.stdout.is_empty(), "{args:?}");

@@ -3,40 +3,12 @@
 //! (`error: <file>:<line>: column '<col>': <what>`, data-format.md).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use stfit_test_support::{CaseDir, Cli, Run};
 
 const HEADER: &str = "sample,theta_i_deg,theta_o_deg,sqrt_L\n";
 
-/// A fresh directory for one test under the system temp dir, removed when dropped.
-struct CaseDir(PathBuf);
-
-impl CaseDir {
-    fn new(name: &str) -> Self {
-        let dir =
-            std::env::temp_dir().join(format!("stfit-bad-input-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        Self(dir)
-    }
-
-    fn file(&self, name: &str, contents: &[u8]) -> PathBuf {
-        let path = self.0.join(name);
-        std::fs::write(&path, contents).unwrap();
-        path
-    }
-}
-
-impl Drop for CaseDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn stfit(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_stfit"))
-        .args(args)
-        .output()
-        .expect("the stfit binary runs")
+fn stfit(args: &[&str]) -> Run {
+    Cli::new(env!("CARGO_BIN_EXE_stfit")).run(args)
 }
 
 /// Runs `stfit FILE args` and checks the failure: exit status `code`, no panic, and a message
@@ -52,8 +24,8 @@ fn expect_error(
     let mut all = vec![path_str];
     all.extend_from_slice(args);
     let out = stfit(&all);
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert_eq!(out.status.code(), Some(1), "stderr: {stderr}");
+    let stderr = out.stderr.clone();
+    assert_eq!(out.code, Some(1), "stderr: {stderr}");
     assert!(!stderr.contains("panicked"), "stderr: {stderr}");
     assert!(out.stdout.is_empty(), "nothing on stdout on error");
     let mut prefix = format!("error: {path_str}");
@@ -83,7 +55,7 @@ fn data(dir: &CaseDir, rows: &str) -> PathBuf {
 #[test]
 fn missing_file() {
     let dir = CaseDir::new("missing");
-    let path = dir.0.join("does-not-exist.csv");
+    let path = dir.join("does-not-exist.csv");
     expect_error(&path, &[], None, None, "cannot read the file");
 }
 
@@ -285,8 +257,8 @@ fn invalid_fit_flags() {
         (vec![], "required"),
     ] {
         let out = stfit(&args);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        let stderr = out.stderr.clone();
+        assert_eq!(out.code, Some(2), "{args:?}: {stderr}");
         assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
         assert!(
             stderr.contains(what),
@@ -341,8 +313,8 @@ fn invalid_synth_flags() {
         let mut args = base.to_vec();
         args.extend(extra);
         let out = stfit(&args);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        let stderr = out.stderr.clone();
+        assert_eq!(out.code, Some(2), "{args:?}: {stderr}");
         assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
         assert!(
             stderr.contains(what),
@@ -351,6 +323,6 @@ fn invalid_synth_flags() {
         assert!(out.stdout.is_empty(), "{args:?}: no partial file on stdout");
     }
     let out = stfit(&["synth", "--model", "ggx", "--alpha", "-0.1"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("alpha must be > 0"));
+    assert_eq!(out.code, Some(2));
+    assert!(out.stderr.clone().contains("alpha must be > 0"));
 }

@@ -1,38 +1,18 @@
 //! End-to-end tests of `stfit eval`: output matches the library; bad input and bad parameters
 //! give a non-zero exit and an error naming the problem, never a panic.
 
-use std::io::Write;
-use std::process::{Command, Stdio};
+use stfit_test_support::{Cli, Run};
 
 use stfit_core::Vec3;
-use stfit_core::bsdf::{Masking, RoughDielectric};
+use stfit_core::bsdf::{AnalyticBsdf, Masking, RoughDielectric};
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, StudentT};
 
-struct Output {
-    code: Option<i32>,
-    stdout: String,
-    stderr: String,
-}
-
-fn run(args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_stfit"))
-        .arg("eval")
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run stfit");
-    // The process may exit before reading everything (bad parameters): ignore broken pipes.
-    let _ = child.stdin.take().unwrap().write_all(stdin.as_bytes());
-    let out = child.wait_with_output().unwrap();
-    let o = Output {
-        code: out.status.code(),
-        stdout: String::from_utf8(out.stdout).unwrap(),
-        stderr: String::from_utf8(out.stderr).unwrap(),
-    };
-    assert!(!o.stderr.contains("panicked"), "panic: {}", o.stderr);
-    o
+fn run(args: &[&str], stdin: &str) -> Run {
+    let mut all = vec!["eval"];
+    all.extend_from_slice(args);
+    let out = Cli::new(env!("CARGO_BIN_EXE_stfit")).run_with_stdin(&all, stdin);
+    assert!(!out.stderr.contains("panicked"), "panic: {}", out.stderr);
+    out
 }
 
 const HEADER: &str = "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z";
@@ -127,23 +107,56 @@ fn output_matches_the_library() {
 
 const GGX: [&str; 6] = ["--ndf", "ggx", "--alpha", "0.3", "--eta", "1.5"];
 
-/// Each bad input fails with exit code 1 and a message naming the line (and field).
+/// Each bad input fails with exit code 1 and a message naming the line and the column, in the
+/// format of every stfit input (`<file>:<line>: column '<col>': ...`).
 #[test]
 fn bad_rows_name_their_line() {
     let good = "0,0,1,0,0,-1";
     let cases: [(&str, &[&str]); 9] = [
-        ("0,0,x,0,0,-1", &["line 3", "field wi_z", "\"x\""]),
-        ("0,0,1,0,0", &["line 3", "expected 6 fields, found 5"]),
-        ("0,0,1,0,0,-1,7", &["line 3", "expected 6 fields, found 7"]),
-        ("0,0,1,0,,-1", &["line 3", "field wo_y"]),
-        ("0,0,1.1,0,0,-1", &["line 3", "wi", "not a unit vector"]),
-        ("0,0,1,0.6,0,-0.6", &["line 3", "wo", "not a unit vector"]),
+        (
+            "0,0,x,0,0,-1",
+            &["<stdin>:3", "column 'wi_z'", "'x' is not a number"],
+        ),
+        (
+            "0,0,1,0,0",
+            &[
+                "<stdin>:3",
+                "column 'wo_z'",
+                "the row has 5 fields, the header 6",
+            ],
+        ),
+        (
+            "0,0,1,0,0,-1,7",
+            &[
+                "<stdin>:3",
+                "column 'extra field 7'",
+                "the row has 7 fields",
+            ],
+        ),
+        (
+            "0,0,1,0,,-1",
+            &["<stdin>:3", "column 'wo_y'", "empty value"],
+        ),
+        (
+            "0,0,1.1,0,0,-1",
+            &["<stdin>:3", "wi_x, wi_y, wi_z", "not a unit vector"],
+        ),
+        (
+            "0,0,1,0.6,0,-0.6",
+            &["<stdin>:3", "wo_x, wo_y, wo_z", "not a unit vector"],
+        ),
         (
             "0,0,1,0,0,-1.000002",
-            &["line 3", "wo", "not a unit vector"],
+            &["<stdin>:3", "wo_x, wo_y, wo_z", "not a unit vector"],
         ),
-        ("0,0,inf,0,0,-1", &["line 3", "field wi_z", "not finite"]),
-        ("NaN,0,1,0,0,-1", &["line 3", "field wi_x", "not finite"]),
+        (
+            "0,0,inf,0,0,-1",
+            &["<stdin>:3", "column 'wi_z'", "not a finite number"],
+        ),
+        (
+            "NaN,0,1,0,0,-1",
+            &["<stdin>:3", "column 'wi_x'", "not a finite number"],
+        ),
     ];
     for (row, needles) in cases {
         let out = run(&GGX, &format!("{HEADER}\n{good}\n{row}\n{good}\n"));
@@ -170,12 +183,18 @@ fn bad_rows_name_their_line() {
 #[test]
 fn bad_headers_are_errors() {
     let cases: [(&str, &str); 4] = [
-        ("", "empty input"),
-        ("wi_x,wi_y,wi_z,wo_x,wo_y\n0,0,1,0,0\n", "lacks column wo_z"),
-        ("wi_x,wi_y,wi_z,wo_x,wo_y,wo_z,wo_z\n", "wo_z appears twice"),
+        ("", "the file is empty"),
+        (
+            "wi_x,wi_y,wi_z,wo_x,wo_y\n0,0,1,0,0\n",
+            "column 'wo_z': missing from the header",
+        ),
+        (
+            "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z,wo_z\n",
+            "column 'wo_z': appears twice",
+        ),
         (
             "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z,f_cos\n",
-            "already has a column f_cos",
+            "column 'f_cos': is written by stfit",
         ),
     ];
     for (text, needle) in cases {
@@ -215,7 +234,7 @@ fn invalid_parameters_are_rejected() {
         ),
         (
             &["--ndf", "student-t", "--alpha", "0.3", "--eta", "1.5"],
-            "requires --gamma",
+            "--gamma is required for student-t",
         ),
         (
             &[
@@ -234,16 +253,17 @@ fn invalid_parameters_are_rejected() {
             &[
                 "--ndf", "ggx", "--alpha", "0.3", "--gamma", "3", "--eta", "1.5",
             ],
-            "--gamma is only valid with --ndf student-t",
+            "--gamma applies only to student-t",
         ),
     ];
+    // Invalid parameters are invalid command-line values: exit code 2.
     for (args, needle) in cases {
         let out = run(args, &text);
-        assert_eq!(out.code, Some(1), "{args:?}: {}", out.stderr);
+        assert_eq!(out.code, Some(2), "{args:?}: {}", out.stderr);
         assert!(out.stderr.contains(needle), "{args:?}: {}", out.stderr);
         assert!(out.stdout.is_empty(), "{args:?}: {}", out.stdout);
     }
-    // Usage errors are clap's: exit code 2.
+    // So are clap's own usage errors.
     for args in [
         &["--ndf", "cauchy", "--alpha", "0.3", "--eta", "1.5"][..],
         &["--ndf", "ggx", "--eta", "1.5"][..],
@@ -321,12 +341,12 @@ fn full_sphere_walks_are_reciprocal() {
             "1.2",
             "--k",
             "2.5",
-            "--scattering",
+            "--orders",
             "multiple",
         ],
     ];
     for case in cases {
-        let mut args = vec!["--walk", "null", "--samples", "30000"];
+        let mut args = vec!["--walk", "null", "--walks", "30000"];
         args.extend_from_slice(case);
         let rows = walk_rows(&args, &input);
         let (fab, sab) = (rows[0].0 / b.z, rows[0].1 / b.z);
@@ -355,9 +375,9 @@ fn null_walk_matches_the_height_field_walk_in_eval() {
         "0.7",
         "--facet",
         "conductor",
-        "--scattering",
+        "--orders",
         "all",
-        "--samples",
+        "--walks",
         "40000",
     ];
     let mut null = vec!["--walk", "null"];
@@ -436,7 +456,7 @@ fn bad_walk_options_are_usage_errors() {
                 "0.4",
                 "--facet",
                 "lambertian",
-                "--scattering",
+                "--orders",
                 "all",
             ],
             "reflectance",
@@ -466,10 +486,10 @@ fn bad_walk_options_are_usage_errors() {
                 "null",
                 "--facet",
                 "conductor",
-                "--samples",
+                "--walks",
                 "0",
             ],
-            "samples",
+            "walks",
         ),
     ];
     for (args, word) in cases {

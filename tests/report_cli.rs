@@ -3,42 +3,17 @@
 //! shared folder (never copied into the project).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use stfit_test_support::{CaseDir, Cli, Run};
 
-/// A fresh directory for one test under the system temp dir, removed when dropped.
-struct CaseDir(PathBuf);
-
-impl CaseDir {
-    fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("stfit-report-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        Self(dir)
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for CaseDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn stfit(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_stfit"))
-        .args(args)
-        .output()
-        .expect("the stfit binary runs")
+fn stfit(args: &[&str]) -> Run {
+    Cli::new(env!("CARGO_BIN_EXE_stfit")).run(args)
 }
 
 /// Runs the binary, failing the test (with stderr) unless it succeeds without warnings.
-fn stfit_ok(args: &[&str]) -> Output {
+fn stfit_ok(args: &[&str]) -> Run {
     let out = stfit(args);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "stfit {args:?} failed: {stderr}");
+    let stderr = out.stderr.clone();
+    assert!(out.code == Some(0), "stfit {args:?} failed: {stderr}");
     assert!(
         !stderr.contains("warning"),
         "stfit {args:?} warned: {stderr}"
@@ -52,13 +27,6 @@ fn p(path: &Path) -> &str {
 
 fn example() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fits/example.csv")
-}
-
-fn shared_dir() -> PathBuf {
-    std::env::var_os("STFIT_SHARED").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"),
-        PathBuf::from,
-    )
 }
 
 /// The files of a report of `samples`, sorted.
@@ -102,7 +70,7 @@ fn table_rows<'a>(md: &'a str, sample: &str) -> Vec<(&'a str, &'a str)> {
     md.lines()
         .filter_map(|l| {
             let cells: Vec<&str> = l.split('|').map(str::trim).collect();
-            (cells.len() > 7 && cells[1] == sample).then(|| (cells[2], cells[6]))
+            (cells.len() > 9 && cells[1] == sample).then(|| (cells[2], cells[8]))
         })
         .collect()
 }
@@ -111,16 +79,16 @@ fn table_rows<'a>(md: &'a str, sample: &str) -> Vec<(&'a str, &'a str)> {
 fn report_fits_first_and_from_stored_fits_gives_the_same_files() {
     let dir = CaseDir::new("stored");
     let (fitted, stored, json) = (
-        dir.path("fitted"),
-        dir.path("stored"),
-        dir.path("fits.json"),
+        dir.join("fitted"),
+        dir.join("stored"),
+        dir.join("fits.json"),
     );
     let out = stfit_ok(&["report", p(&example()), "--out", p(&fitted)]);
     let samples = ["frosted", "etched", "ground"];
     let expected = expected_files(&samples);
     assert_eq!(files_in(&fitted), expected);
     // stdout lists every file written.
-    let stdout = String::from_utf8(out.stdout).unwrap();
+    let stdout = out.stdout;
     assert_eq!(stdout.lines().count(), expected.len());
 
     stfit_ok(&[p(&example()), "--model", "all", "--out", p(&json)]);
@@ -182,7 +150,7 @@ fn report_fits_first_and_from_stored_fits_gives_the_same_files() {
 #[test]
 fn sample_and_scale_flags_select_what_is_drawn() {
     let dir = CaseDir::new("flags");
-    let (json, out) = (dir.path("fits.json"), dir.path("out"));
+    let (json, out) = (dir.join("fits.json"), dir.join("out"));
     stfit_ok(&[p(&example()), "--model", "all", "--out", p(&json)]);
     stfit_ok(&[
         "report",
@@ -191,7 +159,7 @@ fn sample_and_scale_flags_select_what_is_drawn() {
         p(&json),
         "--sample",
         "etched",
-        "--scale",
+        "--y-axis",
         "linear",
         "--out",
         p(&out),
@@ -200,7 +168,7 @@ fn sample_and_scale_flags_select_what_is_drawn() {
     let md = read(&out, "fits.md");
     assert_eq!(table_rows(&md, "etched").len(), 4);
     assert!(table_rows(&md, "frosted").is_empty());
-    assert!(md.contains("Figures plot L."));
+    assert!(md.contains("Figures of in-plane data plot L."));
     assert!(read(&out, "etched-residuals.svg").contains("L measured − L model"));
     assert!(!read(&out, "etched-fits.svg").contains("√L<"));
 }
@@ -208,24 +176,45 @@ fn sample_and_scale_flags_select_what_is_drawn() {
 #[test]
 fn bad_input_fails_with_a_message() {
     let dir = CaseDir::new("bad");
-    let bad_json = dir.path("bad.json");
+    let bad_json = dir.join("bad.json");
     std::fs::write(&bad_json, "{\"fits\": [{\"sample\": 3}]}").unwrap();
-    let foreign = dir.path("foreign.json");
-    std::fs::write(
-        &foreign,
-        r#"{"fits": [{"sample": "frosted", "model": "ggx", "alpha": 0.2, "gamma": null,
-        "gamma_fixed": false, "scale": 1.0, "rmse_sqrt_l": 0.1, "n_points": 12,
-        "alpha_stderr": 0.01, "gamma_stderr": null, "scale_stderr": 0.01, "iterations": 3}]}"#,
-    )
-    .unwrap();
-    let out_dir = dir.path("out");
-    let (missing, none) = (dir.path("missing.csv"), dir.path("none.json"));
+    let fit = r#"{"sample": "frosted", "model": "ggx", "alpha": 0.2, "gamma": null,
+        "gamma_fixed": false, "scale": 1.0, "eta": 1.51, "masking": "separable",
+        "orders": "single", "walks": null, "seed": null, "loss": "sqrt",
+        "optimizer": "nelder-mead", "rmse_sqrt_l": 0.1, "n_points": 12, "alpha_stderr": 0.01,
+        "gamma_stderr": null, "scale_stderr": 0.01, "iterations": 3, "data": "x.csv",
+        "stfit_version": "0.2.0"}"#;
+    let foreign = dir.file(
+        "foreign.json",
+        format!("{{\"version\": 1, \"fits\": [{fit}]}}"),
+    );
+    let old = dir.file("old.json", format!("{{\"fits\": [{fit}]}}"));
+    let newer = dir.file(
+        "newer.json",
+        format!("{{\"version\": 9, \"fits\": [{fit}]}}"),
+    );
+    let invalid = dir.file(
+        "invalid.json",
+        format!(
+            "{{\"version\": 1, \"fits\": [{}]}}",
+            // Orders all with separable masking: not a model stfit makes.
+            fit.replace("\"orders\": \"single\"", "\"orders\": \"all\"")
+        ),
+    );
+    let out_dir = dir.join("out");
+    let (missing, none) = (dir.join("missing.csv"), dir.join("none.json"));
     let ex = example();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["report", p(&missing)], "missing.csv"),
         (vec!["report", p(&ex), "--fits", p(&none)], "none.json"),
         (vec!["report", p(&ex), "--fits", p(&bad_json)], "bad.json"),
         (vec!["report", p(&ex), "--fits", p(&foreign)], "12 points"),
+        (
+            vec!["report", p(&ex), "--fits", p(&old)],
+            "no format version",
+        ),
+        (vec!["report", p(&ex), "--fits", p(&newer)], "version 9"),
+        (vec!["report", p(&ex), "--fits", p(&invalid)], "correlated"),
         (
             vec!["report", p(&ex), "--fits", p(&foreign), "--sample", "nope"],
             "nope",
@@ -235,25 +224,31 @@ fn bad_input_fails_with_a_message() {
         let mut args = args;
         args.extend(["--out", p(&out_dir)]);
         let out = stfit(&args);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        let stderr = out.stderr.clone();
+        assert_eq!(out.code, Some(1), "{args:?}: {stderr}");
         assert!(
             stderr.starts_with("error: ") && stderr.contains(needle),
             "{args:?}: {stderr}"
         );
         assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
     }
-    let out = stfit(&["report", p(&ex), "--scale", "log"]);
-    assert_eq!(out.status.code(), Some(2));
+    let out = stfit(&["report", p(&ex), "--y-axis", "log"]);
+    assert_eq!(out.code, Some(2));
+    let out = stfit(&["report", p(&ex), "--scale", "linear"]);
+    assert_eq!(out.code, Some(2));
+    assert!(out.stderr.contains("--y-axis"), "{}", out.stderr);
     let out = stfit(&["report", p(&ex), "--eta", "1"]);
-    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(out.code, Some(2));
 }
 
 #[test]
 fn report_of_the_walter_measurements() {
-    let data = shared_dir().join("data/walter2007/measurements.csv");
+    let Some(data) = stfit_test_support::walter_measurements("report_of_the_walter_measurements")
+    else {
+        return;
+    };
     let dir = CaseDir::new("walter");
-    let out = dir.path("report");
+    let out = dir.join("report");
     stfit_ok(&["report", p(&data), "--out", p(&out)]);
     assert_eq!(
         files_in(&out),

@@ -2,59 +2,33 @@
 //! format from the extension, shards merged against one run byte for byte, the Cycles layout,
 //! and invalid options (exit 2) and bad shard files (exit 1).
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+use stfit_test_support::{CaseDir, Cli};
 
-/// A fresh directory for one test under the system temp dir, removed when dropped.
-struct CaseDir(PathBuf);
-
-impl CaseDir {
-    fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("stfit-tables-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        Self(dir)
-    }
-
-    fn path(&self, name: &str) -> String {
-        self.0.join(name).display().to_string()
-    }
+fn cli() -> Cli {
+    Cli::new(env!("CARGO_BIN_EXE_stfit"))
 }
 
-impl Drop for CaseDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn stfit(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_stfit"))
-        .args(args)
-        .output()
-        .expect("the stfit binary runs")
+/// The path of `name` in `dir`, as an argument.
+fn file(dir: &CaseDir, name: &str) -> String {
+    dir.join(name).display().to_string()
 }
 
 /// Runs the binary and fails the test unless it succeeds with nothing on stderr (no progress
-/// bar when stderr is not a terminal).
+/// bar when stderr is not a terminal); returns stdout.
 fn stfit_ok(args: &[&str]) -> String {
-    let out = stfit(args);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "stfit {args:?} failed: {stderr}");
+    let run = cli().run(args);
     assert!(
-        stderr.is_empty(),
-        "stfit {args:?} wrote to stderr: {stderr}"
+        run.stderr.is_empty(),
+        "stfit {args:?} wrote to stderr: {}",
+        run.stderr
     );
-    String::from_utf8(out.stdout).unwrap()
+    run.ok().to_owned()
 }
 
-/// Runs the binary and returns its exit code and stderr.
-fn stfit_err(args: &[&str]) -> (i32, String) {
-    let out = stfit(args);
-    assert!(!out.status.success(), "stfit {args:?} succeeded");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+/// Runs the binary and fails the test unless it exits with `code` (without a panic or
+/// anything on stdout); returns stderr.
+fn stfit_fails(args: &[&str], code: i32) -> String {
+    cli().run(args).fails_with(code).to_owned()
 }
 
 /// A small Student-T glass table with all orders.
@@ -91,7 +65,7 @@ fn run_ok(args: &[String]) -> String {
 #[test]
 fn csv_rows_cover_the_grid_with_the_documented_columns() {
     let dir = CaseDir::new("csv");
-    let out = dir.path("t.csv");
+    let out = file(&dir, "t.csv");
     let said = run_ok(&with(&["--out", &out]));
     // 2 sides x 2 gamma x 2 eta x 2 mu x 3 alpha.
     assert_eq!(said, format!("48 cells -> {out}\n"));
@@ -128,7 +102,7 @@ fn csv_rows_cover_the_grid_with_the_documented_columns() {
 #[test]
 fn the_format_follows_the_extension_unless_given() {
     let dir = CaseDir::new("formats");
-    let (npy, h, csv_named_h) = (dir.path("t.npy"), dir.path("t.h"), dir.path("c.h"));
+    let (npy, h, csv_named_h) = (file(&dir, "t.npy"), file(&dir, "t.h"), file(&dir, "c.h"));
     run_ok(&with(&["--out", &npy]));
     run_ok(&with(&["--out", &h]));
     run_ok(&with(&["--out", &csv_named_h, "--format", "csv"]));
@@ -162,15 +136,15 @@ fn merged_shards_are_the_file_of_one_run() {
     let dir = CaseDir::new("shards");
     let mut shards = Vec::new();
     for k in 1..=3 {
-        let path = dir.path(&format!("shard{k}.json"));
+        let path = file(&dir, &format!("shard{k}.json"));
         let said = run_ok(&with(&["--shard", &format!("{k}/3"), "--out", &path]));
         assert!(said.starts_with(&format!("shard {k}/3: ")), "{said}");
         shards.push(path);
     }
     for fmt in ["csv", "npy", "c"] {
-        let whole = dir.path(&format!("whole.{fmt}"));
+        let whole = file(&dir, &format!("whole.{fmt}"));
         run_ok(&with(&["--out", &whole, "--format", fmt]));
-        let merged = dir.path(&format!("merged.{fmt}"));
+        let merged = file(&dir, &format!("merged.{fmt}"));
         let mut args = vec!["tables", "merge", "--format", fmt, "--out", &merged];
         args.extend(shards.iter().rev().map(String::as_str));
         let said = stfit_ok(&args);
@@ -187,31 +161,29 @@ fn merged_shards_are_the_file_of_one_run() {
 fn bad_shard_files_fail_with_exit_1_naming_the_file() {
     let dir = CaseDir::new("bad-shards");
     let (one, two, junk) = (
-        dir.path("s1.json"),
-        dir.path("s2.json"),
-        dir.path("junk.json"),
+        file(&dir, "s1.json"),
+        file(&dir, "s2.json"),
+        file(&dir, "junk.json"),
     );
     run_ok(&with(&["--shard", "1/2", "--out", &one]));
-    let out = dir.path("m.csv");
-    let (code, err) = stfit_err(&["tables", "merge", "--out", &out, &one]);
-    assert_eq!(code, 1);
+    let out = file(&dir, "m.csv");
+    let err = stfit_fails(&["tables", "merge", "--out", &out, &one], 1);
     assert!(err.contains("missing shards: 2/2"), "{err}");
-    let (code, err) = stfit_err(&["tables", "merge", "--out", &out, &one, &one]);
-    assert_eq!(code, 1);
+    let err = stfit_fails(&["tables", "merge", "--out", &out, &one, &one], 1);
     assert!(err.contains(&one) && err.contains("also given"), "{err}");
     // A shard of another table.
     let mut other = with(&["--shard", "2/2", "--out", &two]);
     other[14] = "5000".into();
     run_ok(&other);
-    let (code, err) = stfit_err(&["tables", "merge", "--out", &out, &one, &two]);
-    assert_eq!(code, 1);
+    let err = stfit_fails(&["tables", "merge", "--out", &out, &one, &two], 1);
     assert!(err.contains(&two) && err.contains("differs"), "{err}");
     std::fs::write(&junk, "surface,ndf\n").unwrap();
-    let (code, err) = stfit_err(&["tables", "merge", "--out", &out, &junk]);
-    assert_eq!(code, 1);
+    let err = stfit_fails(&["tables", "merge", "--out", &out, &junk], 1);
     assert!(err.contains(&junk) && err.contains("line 1"), "{err}");
-    let (code, err) = stfit_err(&["tables", "merge", "--out", &out, &dir.path("none.json")]);
-    assert_eq!(code, 1);
+    let err = stfit_fails(
+        &["tables", "merge", "--out", &out, &file(&dir, "none.json")],
+        1,
+    );
     assert!(err.contains("cannot read"), "{err}");
     assert!(!std::path::Path::new(&out).exists());
 }
@@ -219,7 +191,7 @@ fn bad_shard_files_fail_with_exit_1_naming_the_file() {
 #[test]
 fn the_cycles_layout_writes_cycles_arrays() {
     let dir = CaseDir::new("cycles");
-    let h = dir.path("ggx.h");
+    let h = file(&dir, "ggx.h");
     let said = stfit_ok(&[
         "tables",
         "--ndf",
@@ -260,7 +232,7 @@ fn the_cycles_layout_writes_cycles_arrays() {
 #[test]
 fn invalid_options_exit_with_status_2() {
     let dir = CaseDir::new("usage");
-    let out = dir.path("t.csv");
+    let out = file(&dir, "t.csv");
     let base = [
         "tables",
         "--ndf",
@@ -301,30 +273,33 @@ fn invalid_options_exit_with_status_2() {
         } else {
             args.extend(&extra);
         }
-        let (code, err) = stfit_err(&args);
-        assert_eq!(code, 2, "{args:?}: {err}");
+        let err = stfit_fails(&args, 2);
         assert!(
             err.contains(message),
             "{args:?}: expected '{message}' in: {err}"
         );
     }
-    let (code, err) = stfit_err(&[
-        "tables",
-        "--ndf",
-        "student-t",
-        "--alpha-grid",
-        "0.1",
-        "--mu-grid",
-        "1",
-        "--eta-grid",
-        "1.5",
-        "--out",
-        &out,
-    ]);
-    assert_eq!(code, 2);
+    let err = stfit_fails(
+        &[
+            "tables",
+            "--ndf",
+            "student-t",
+            "--alpha-grid",
+            "0.1",
+            "--mu-grid",
+            "1",
+            "--eta-grid",
+            "1.5",
+            "--out",
+            &out,
+        ],
+        2,
+    );
     assert!(err.contains("--gamma-grid is required"), "{err}");
-    let (code, err) = stfit_err(&["tables", "--ndf", "ggx", "--mu-grid", "1", "--out", &out]);
-    assert_eq!(code, 2);
+    let err = stfit_fails(
+        &["tables", "--ndf", "ggx", "--mu-grid", "1", "--out", &out],
+        2,
+    );
     assert!(err.contains("--alpha-grid is required"), "{err}");
     assert!(!std::path::Path::new(&out).exists());
 }

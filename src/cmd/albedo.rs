@@ -1,35 +1,13 @@
 //! `stfit albedo`: fractions of the incident flux that a rough surface reflects and transmits,
 //! by the height-field or the null-scattering random walk.
 
-use super::surface::{self, Estimators, SurfaceArgs};
-use super::{CmdError, CmdResult, print_stdout};
-use clap::ValueEnum;
+use super::surface::{SurfaceArgs, flags};
+use super::{CmdResult, OrdersArg, Retired, print_stdout, usage};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use stfit_core::Vec3;
 use stfit_core::math::radians;
-use stfit_core::walk::{AlbedoEstimate, ScatteringOrders};
-
-/// Scattering orders to count.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Scattering {
-    /// Paths that scatter exactly once.
-    Single,
-    /// Paths that scatter two or more times.
-    Multiple,
-    /// Every path.
-    All,
-}
-
-impl From<Scattering> for ScatteringOrders {
-    fn from(s: Scattering) -> Self {
-        match s {
-            Scattering::Single => Self::Single,
-            Scattering::Multiple => Self::Multiple,
-            Scattering::All => Self::All,
-        }
-    }
-}
+use stfit_core::walk::{AlbedoEstimate, DEFAULT_ALBEDO_WALKS, Estimator};
 
 /// Arguments of `stfit albedo`.
 #[derive(Debug, clap::Args)]
@@ -40,48 +18,53 @@ pub struct Args {
     /// light comes from inside.
     #[arg(long = "theta-i", allow_negative_numbers = true)]
     pub theta_i: f64,
-    /// Scattering orders to count.
-    #[arg(long, value_enum, default_value_t = Scattering::All)]
-    pub scattering: Scattering,
-    /// Number of walks.
-    #[arg(long, default_value_t = 1_000_000)]
-    pub samples: u64,
+    /// Scattering orders to count: single (order 1), multiple (orders >= 2) or all.
+    #[arg(long, value_enum, default_value_t = OrdersArg::All)]
+    pub orders: OrdersArg,
+    /// Number of random walks.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_ALBEDO_WALKS)]
+    pub walks: u64,
     /// Seed of the random numbers.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub retired: Retired,
 }
 
 /// Runs `stfit albedo`. Invalid arguments are usage errors (exit status 2).
 pub fn run(args: &Args) -> CmdResult {
-    let usage = |m: String| CmdError::Usage(m);
+    args.retired.check()?;
     let theta = args.theta_i;
     if !theta.is_finite() || !(0.0..=180.0).contains(&theta) || theta == 90.0 {
         return Err(usage(format!(
             "--theta-i must be in [0, 180] and not 90, got {theta}"
         )));
     }
-    if args.samples == 0 {
-        return Err(usage("--samples must be at least 1".into()));
+    if args.walks == 0 {
+        return Err(usage("--walks must be at least 1"));
     }
     let t = radians(theta);
     let wi = Vec3::new(-t.sin(), 0.0, t.cos());
-    let (ndf, facet) = args.surface.options().check()?;
-    let walk = surface::walker(ndf, facet, args.surface.walk, args.scattering.into())?;
+    let walk = args
+        .surface
+        .surface()?
+        .estimator(args.orders.into())
+        .map_err(|e| usage(flags(&e)))?;
     let result = estimate(walk.as_ref(), wi, args);
     print_stdout(&format_result(args, &result))
 }
 
 /// Runs the walks, with a progress bar when both output streams are terminals.
-fn estimate(walk: &dyn Estimators, wi: Vec3, args: &Args) -> AlbedoEstimate {
+fn estimate(walk: &dyn Estimator, wi: Vec3, args: &Args) -> AlbedoEstimate {
     let show = !args.json
         && std::io::stdout().is_terminal()
         && std::io::stderr().is_terminal()
-        && args.samples >= 1_000_000;
+        && args.walks >= 1_000_000;
     let bar = show.then(|| {
-        let bar = ProgressBar::new(args.samples);
+        let bar = ProgressBar::new(args.walks);
         if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} walks, eta {eta}") {
             bar.set_style(style);
         }
@@ -92,7 +75,7 @@ fn estimate(walk: &dyn Estimators, wi: Vec3, args: &Args) -> AlbedoEstimate {
             bar.inc(n);
         }
     };
-    let result = walk.albedo_with_progress(wi, args.samples, args.seed, &progress);
+    let result = walk.albedo_with_progress(wi, args.walks, args.seed, &progress);
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
@@ -109,7 +92,7 @@ fn format_result(args: &Args, a: &AlbedoEstimate) -> String {
             "transmittance_stderr": a.transmittance_stderr,
             "mean_bounces": a.mean_bounces,
             "truncated": a.truncated,
-            "samples": a.walks,
+            "walks": a.walks,
             "seed": args.seed,
         });
         return format!("{v}\n");

@@ -1,13 +1,14 @@
 //! The subcommands of `stfit`: one module each, with a clap `Args` struct and a `run` function
-//! returning [`CmdResult`].
+//! returning [`CmdResult`]. They parse arguments, call the library crates and print; nothing
+//! else happens here.
 
 use std::fmt;
 use std::io::{self, Write};
 use std::path::Path;
 
 use clap::ValueEnum;
+use stfit_core::ScatteringOrders;
 use stfit_core::bsdf::Masking;
-use stfit_fit::LoadError;
 
 pub mod albedo;
 pub mod eval;
@@ -22,9 +23,10 @@ pub mod tables;
 /// [`exit_code`]: CmdError::exit_code
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum CmdError {
-    /// Invalid arguments (exit status 2, as for clap's own usage errors).
+    /// Invalid command-line values, parameters included (exit status 2, as for clap's own
+    /// usage errors).
     Usage(String),
-    /// Bad input data, a failed fit, or an I/O problem (exit status 1).
+    /// Bad input data, a failed computation, or an I/O problem (exit status 1).
     Failed(String),
 }
 
@@ -46,10 +48,14 @@ impl fmt::Display for CmdError {
     }
 }
 
-impl From<LoadError> for CmdError {
-    fn from(e: LoadError) -> Self {
-        Self::Failed(e.to_string())
-    }
+/// A usage error (exit status 2) from anything displayable.
+pub fn usage(e: impl fmt::Display) -> CmdError {
+    CmdError::Usage(e.to_string())
+}
+
+/// A failure (exit status 1) from anything displayable.
+pub fn failed(e: impl fmt::Display) -> CmdError {
+    CmdError::Failed(e.to_string())
 }
 
 /// What every subcommand returns.
@@ -62,34 +68,23 @@ pub fn print_stdout(text: &str) -> CmdResult {
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) => Err(CmdError::Failed(format!("cannot write to stdout: {e}"))),
+        Err(e) => Err(failed(format!("cannot write to stdout: {e}"))),
     }
 }
 
 /// Writes `text` to the file at `path`, replacing it.
 pub fn write_file(path: &Path, text: &str) -> CmdResult {
-    std::fs::write(path, text)
-        .map_err(|e| CmdError::Failed(format!("{}: cannot write: {e}", path.display())))
+    std::fs::write(path, text).map_err(|e| failed(format!("{}: cannot write: {e}", path.display())))
 }
 
 /// `--masking`: the Smith masking-shadowing form.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum MaskingArg {
     /// `G1(wi) G1(wo)`, as in Walter et al. 2007 and the published fits.
-    #[default]
     Separable,
-    /// Height-correlated Smith.
+    /// Height-correlated Smith (the Beta function for transmission); the only masking of the
+    /// random walk, so of orders multiple and all.
     Correlated,
-}
-
-impl MaskingArg {
-    /// The name as given on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Separable => "separable",
-            Self::Correlated => "correlated",
-        }
-    }
 }
 
 impl From<MaskingArg> for Masking {
@@ -101,7 +96,66 @@ impl From<MaskingArg> for Masking {
     }
 }
 
+/// `--orders`: which scattering orders, the one vocabulary of every command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum OrdersArg {
+    /// Order 1: paths that scatter exactly once.
+    Single,
+    /// Orders >= 2 only.
+    Multiple,
+    /// Every order: the full BSDF.
+    All,
+}
+
+impl From<OrdersArg> for ScatteringOrders {
+    fn from(o: OrdersArg) -> Self {
+        match o {
+            OrdersArg::Single => Self::Single,
+            OrdersArg::Multiple => Self::Multiple,
+            OrdersArg::All => Self::All,
+        }
+    }
+}
+
+/// The masking of `orders`: as given, or the default of the orders; the library's one rule
+/// (orders >= 2 need correlated masking) applied, a violation being a usage error.
+pub fn masking_of(
+    orders: ScatteringOrders,
+    given: Option<MaskingArg>,
+) -> Result<Masking, CmdError> {
+    orders
+        .masking(given.map(Masking::from))
+        .map_err(|e| usage(format!("--masking: {e}")))
+}
+
 /// Checks a relative index of refraction given as `--eta`.
 pub fn check_eta_arg(eta: f64) -> Result<f64, CmdError> {
-    stfit_core::error::check_eta(eta).map_err(|e| CmdError::Usage(format!("--eta: {e}")))
+    stfit_core::error::check_eta(eta).map_err(|e| usage(format!("--eta: {e}")))
+}
+
+/// Flags of earlier versions, refused with a message that names their replacement (exit 2).
+#[derive(Debug, Clone, clap::Args)]
+pub struct Retired {
+    #[arg(long, hide = true, allow_hyphen_values = true)]
+    scattering: Option<String>,
+    #[arg(long, hide = true, allow_hyphen_values = true)]
+    samples: Option<String>,
+}
+
+impl Retired {
+    /// A usage error if a retired flag was given.
+    pub fn check(&self) -> CmdResult {
+        if self.scattering.is_some() {
+            return Err(usage(
+                "--scattering is gone: use --orders single|multiple|all (order 1, orders >= 2, \
+                 every order)",
+            ));
+        }
+        if self.samples.is_some() {
+            return Err(usage(
+                "--samples is gone: use --walks N (the number of random walks)",
+            ));
+        }
+        Ok(())
+    }
 }

@@ -1,82 +1,94 @@
 //! `stfit report DATA`: Figure-1-style comparison plots (SVG and PNG) and a markdown table of
-//! the four model fits of every sample, fitted first or read from stored fits.
+//! the model fits of every sample, fitted first or read from stored fits, each drawn with the
+//! model it was fitted with.
 
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use stfit_fit::{Dataset, FitOptions, FitResult};
-use stfit_report::{ReportOptions, YScale, read_fits_json};
+use stfit_fit::{Dataset, FitResult, FitsFile, all_models};
+use stfit_report::{ReportOptions, YScale};
 
-use super::{CmdError, CmdResult, MaskingArg, check_eta_arg, print_stdout};
+use super::fit::{FitOptionArgs, ModelArg, fit_with_progress, selected};
+use super::{CmdError, CmdResult, Retired, failed, print_stdout, usage};
 
 /// Arguments of `stfit report`.
 #[derive(Debug, Clone, Args)]
 pub struct ReportArgs {
-    /// Measurement file (see data-format.md).
-    #[arg(value_name = "DATA")]
-    pub data: PathBuf,
+    /// Measurement files or folders (see data-format.md).
+    #[arg(value_name = "DATA", required = true, num_args = 1..)]
+    pub data: Vec<PathBuf>,
     /// Folder for the figures and fits.md (created if missing; files in it are replaced).
     #[arg(long, value_name = "DIR", default_value = "report")]
     pub out: PathBuf,
     /// Report only the sample called NAME (default: every sample, in file order).
     #[arg(long, value_name = "NAME")]
     pub sample: Option<String>,
-    /// Plot stored fits (the JSON of `stfit DATA --model all --json` or `--out`) instead of
-    /// fitting first.
+    /// Plot stored fits (the JSON of `stfit DATA --out FILE`), each with its own model,
+    /// instead of fitting the four models first.
     #[arg(long, value_name = "FILE.json")]
     pub fits: Option<PathBuf>,
-    /// Vertical axis: sqrt(L) (the published view) or L.
-    #[arg(long, value_enum, default_value_t = ScaleArg::Sqrt)]
-    pub scale: ScaleArg,
-    /// Relative index of refraction of the glass (must match the fits).
-    #[arg(
-        long,
-        value_name = "E",
-        default_value_t = 1.51,
-        allow_negative_numbers = true
-    )]
-    pub eta: f64,
-    /// Smith masking-shadowing form of the model curves (must match the fits).
-    #[arg(long, value_enum, default_value_t = MaskingArg::Separable)]
-    pub masking: MaskingArg,
+    /// Vertical axis of the plots: sqrt(L) (the published view) or L.
+    #[arg(long, value_enum, default_value_t = YAxisArg::Sqrt)]
+    pub y_axis: YAxisArg,
+    /// How to fit first (without --fits); stored fits carry their own.
+    #[command(flatten)]
+    pub fit: FitOptionArgs,
+    #[command(flatten)]
+    pub retired: Retired,
 }
 
-/// `--scale`.
+/// `--y-axis`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum ScaleArg {
+pub enum YAxisArg {
     /// sqrt(L), the published view.
     Sqrt,
     /// L.
     Linear,
 }
 
-/// Runs `stfit report`.
-pub fn run(args: ReportArgs) -> CmdResult {
+/// Runs `stfit report`. `given` lists the fit options given on the command line (as flags such
+/// as `--eta`): with `--fits` they are refused, since stored fits carry their own.
+pub fn run(args: ReportArgs, given: &[String]) -> CmdResult {
+    args.retired.check()?;
     let opts = ReportOptions {
-        y_scale: match args.scale {
-            ScaleArg::Sqrt => YScale::Sqrt,
-            ScaleArg::Linear => YScale::Linear,
+        y_scale: match args.y_axis {
+            YAxisArg::Sqrt => YScale::Sqrt,
+            YAxisArg::Linear => YScale::Linear,
         },
-        eta: check_eta_arg(args.eta)?,
-        masking: args.masking.into(),
     };
-    let mut data = Dataset::load(&args.data)?;
-    if let Some(name) = &args.sample {
-        let sample = data.sample(name)?.clone();
-        data.samples = vec![sample];
+    if args.fits.is_none() && (args.fit.model != ModelArg::StudentT || args.fit.gamma.is_some()) {
+        return Err(usage(
+            "a report fits the four models of --model all: --model and --gamma do not apply",
+        ));
     }
-    let fits = match &args.fits {
-        Some(path) => stored_fits(path, &data, args.sample.is_some())?,
-        None => fit_every_sample(&data, &opts)?,
+    if let (Some(_), Some(flag)) = (&args.fits, given.first()) {
+        return Err(usage(format!(
+            "{flag} does not apply with --fits: stored fits carry the model they were fitted with"
+        )));
+    }
+    // Where the fits come from; options are checked before any file is read.
+    enum Source<'a> {
+        Stored(&'a std::path::Path),
+        Fit(stfit_fit::FitOptions),
+    }
+    let source = match &args.fits {
+        Some(path) => Source::Stored(path),
+        None => Source::Fit(args.fit.fit_options()?),
+    };
+    let data = selected(
+        stfit_fit::load_paths(&args.data).map_err(failed)?,
+        args.sample.as_deref(),
+    )?;
+    let fits = match source {
+        Source::Stored(path) => stored_fits(path, &data, args.sample.is_some())?,
+        Source::Fit(o) => fit_with_progress(&data, &all_models(), &o, true)?,
     };
     let report = stfit_report::render_report(&data, &fits, &opts)
-        .map_err(|e| CmdError::Failed(format!("{}: {e}", args.data.display())))?;
+        .map_err(|e| failed(format!("{}: {e}", data.source.display())))?;
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }
-    let paths = report
-        .write_to(&args.out)
-        .map_err(|e| CmdError::Failed(e.to_string()))?;
+    let paths = report.write_to(&args.out).map_err(failed)?;
     let mut text = String::new();
     for p in paths {
         text.push_str(&format!("{}\n", p.display()));
@@ -84,34 +96,15 @@ pub fn run(args: ReportArgs) -> CmdResult {
     print_stdout(&text)
 }
 
-/// Reads stored fits; with `--sample`, keeps those of the selected sample.
+/// Reads stored fits; with `--sample` (`selected`), keeps those of the selected sample.
 fn stored_fits(
     path: &std::path::Path,
     data: &Dataset,
     selected: bool,
 ) -> Result<Vec<FitResult>, CmdError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| CmdError::Failed(format!("{}: cannot read: {e}", path.display())))?;
-    let mut fits =
-        read_fits_json(&text).map_err(|e| CmdError::Failed(format!("{}: {e}", path.display())))?;
+    let mut fits = FitsFile::read(path).map_err(failed)?.fits;
     if selected {
         fits.retain(|f| data.samples.iter().any(|s| s.name == f.sample));
-    }
-    Ok(fits)
-}
-
-/// Fits the four models of the seed paper's comparison to every sample.
-fn fit_every_sample(data: &Dataset, opts: &ReportOptions) -> Result<Vec<FitResult>, CmdError> {
-    let fit_opts = FitOptions {
-        eta: opts.eta,
-        masking: opts.masking,
-        ..FitOptions::default()
-    };
-    let mut fits = Vec::new();
-    for sample in &data.samples {
-        let mut sample_fits = stfit_fit::fit_all(sample, &fit_opts)
-            .map_err(|e| CmdError::Failed(format!("sample '{}': {e}", sample.name)))?;
-        fits.append(&mut sample_fits);
     }
     Ok(fits)
 }

@@ -1,15 +1,17 @@
 //! `stfit synth`: write synthetic measurements of known truth in the data format.
 
-use std::fs::OpenOptions;
-use std::io::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use stfit_fit::synth::{HEADER, SynthSpec, parse_angle_list, write_csv};
-use stfit_fit::{ModelKind, ModelParams, Scattering};
+use stfit_core::ScatteringOrders;
+use stfit_fit::pabopto::{PabValue, write_pabopto};
+use stfit_fit::synth::{SynthSpec, parse_angle_list, write_csv, write_file};
+use stfit_fit::{DEFAULT_ETA, DEFAULT_WALKS, Gamma, Grid, Model, ModelKind, SynthError};
 
-use super::fit::{ScatteringArg, masking as fit_masking};
-use super::{CmdError, CmdResult, MaskingArg, check_eta_arg, print_stdout};
+use super::{
+    CmdError, CmdResult, MaskingArg, OrdersArg, Retired, check_eta_arg, failed, masking_of,
+    print_stdout, usage,
+};
 
 /// Arguments of `stfit synth`.
 #[derive(Debug, Clone, Args)]
@@ -42,31 +44,45 @@ pub struct SynthArgs {
     /// Seed of the noise; the same seed and arguments give the same file.
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub seed: u64,
-    /// Incidence angles in degrees, [0, 90): a comma list of numbers and start:stop:step ranges.
-    #[arg(long, value_name = "LIST", default_value = "0,30,60,80")]
-    pub theta_i: String,
-    /// Directions inside the glass in degrees, (90, 270), 180 straight through: a comma list of
-    /// numbers and inclusive start:stop:step ranges.
-    #[arg(long, value_name = "LIST", default_value = "106:254:2")]
-    pub theta_o: String,
+    /// The grid: in-plane (the Walter form, L) or general (any direction pairs on both sides,
+    /// reflection and transmission, the BSDF).
+    #[arg(long, value_enum, default_value_t = GridArg::InPlane)]
+    pub grid: GridArg,
+    /// Incidence angles in degrees: a comma list of numbers and inclusive start:stop:step
+    /// ranges. In-plane: in [0, 90) [default: 0,30,60,80]; general: polar angles of the
+    /// direction toward the light in [0, 180] without 90, above 90 from inside the glass
+    /// [default: 0,30,60,120,150].
+    #[arg(long, value_name = "LIST")]
+    pub theta_i: Option<String>,
+    /// Azimuths of the incidence directions in degrees (general grid) [default: 0].
+    #[arg(long, value_name = "LIST")]
+    pub phi_i: Option<String>,
+    /// Outgoing directions in degrees. In-plane: inside the glass in (90, 270), 180 straight
+    /// through [default: 106:254:2]; general: polar angles toward the detector in [0, 180]
+    /// without 90 [default: 5:175:10].
+    #[arg(long, value_name = "LIST")]
+    pub theta_o: Option<String>,
+    /// Azimuths of the outgoing directions in degrees (general grid) [default: 0:340:20].
+    #[arg(long, value_name = "LIST")]
+    pub phi_o: Option<String>,
+    /// Write the general grid as pab-opto goniophotometer files (one per incidence direction
+    /// and side, into the folder --out), with DSF (BSDF times |cos theta_o|) or BSDF values.
+    #[arg(long, value_enum, requires = "out")]
+    pub pabopto: Option<PabArg>,
     /// Relative index of refraction of the glass.
-    #[arg(
-        long,
-        value_name = "E",
-        default_value_t = 1.51,
-        allow_negative_numbers = true
-    )]
+    #[arg(long, value_name = "E", default_value_t = DEFAULT_ETA, allow_negative_numbers = true)]
     pub eta: f64,
-    /// Smith masking-shadowing form [default: separable; correlated, the only one allowed, with
-    /// --scattering multiple].
+    /// Smith masking-shadowing form [default: separable for --orders single; correlated, the
+    /// only one allowed, for --orders all].
     #[arg(long, value_enum)]
     pub masking: Option<MaskingArg>,
-    /// Scattering orders: `multiple` adds the random walk's orders >= 2 (--walks per incidence
-    /// angle, seeded with --seed) to the height-correlated single-scattering BTDF.
-    #[arg(long, value_enum, default_value_t = ScatteringArg::Single)]
-    pub scattering: ScatteringArg,
-    /// Random walks per incidence angle (--scattering multiple).
-    #[arg(long, value_name = "N", default_value_t = 100_000)]
+    /// Scattering orders: single, or all (the random walk's orders >= 2, --walks per incidence
+    /// direction seeded with --seed, added to the height-correlated single-scattering BTDF, as
+    /// the fit of --orders all models it).
+    #[arg(long, value_enum, default_value_t = OrdersArg::Single)]
+    pub orders: OrdersArg,
+    /// Random walks per incidence direction (--orders all).
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_WALKS)]
     pub walks: u64,
     /// Sample name written in the sample column.
     #[arg(long, value_name = "NAME", default_value = "synthetic")]
@@ -78,6 +94,27 @@ pub struct SynthArgs {
     /// instead of replacing it, to put several samples in one file.
     #[arg(long, requires = "out")]
     pub append: bool,
+    #[command(flatten)]
+    pub retired: Retired,
+}
+
+/// `stfit synth --grid`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum GridArg {
+    /// In-plane transmission from the air (the Walter form): columns theta_i_deg,
+    /// theta_o_deg, L.
+    InPlane,
+    /// Any direction pairs: columns theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, bsdf.
+    General,
+}
+
+/// `stfit synth --pabopto`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PabArg {
+    /// `#format: theta phi DSF`.
+    Dsf,
+    /// `#format: theta phi BSDF`.
+    Bsdf,
 }
 
 /// `stfit synth --model`.
@@ -98,138 +135,153 @@ impl From<SynthModelArg> for ModelKind {
     }
 }
 
-/// Runs `stfit synth`.
+/// Runs `stfit synth`. Invalid values of the model and the grid are usage errors (exit 2);
+/// a file that cannot be written or appended to is a failure (1).
 pub fn run(args: SynthArgs) -> CmdResult {
-    let angles = |flag: &str, text: &str| {
-        parse_angle_list(text).map_err(|e| CmdError::Usage(format!("{flag}: {e}")))
+    args.retired.check()?;
+    let list = |flag: &str,
+                given: &Option<String>,
+                default: &str|
+     -> Result<(String, Vec<f64>), CmdError> {
+        let text = given.clone().unwrap_or_else(|| default.to_string());
+        let angles = parse_angle_list(&text).map_err(|e| usage(format!("{flag}: {e}")))?;
+        Ok((text, angles))
+    };
+    let (grid, grid_flags) = match args.grid {
+        GridArg::InPlane => {
+            for (given, flag) in [(&args.phi_i, "--phi-i"), (&args.phi_o, "--phi-o")] {
+                if given.is_some() {
+                    return Err(usage(format!("{flag} applies only to --grid general")));
+                }
+            }
+            if args.pabopto.is_some() {
+                return Err(usage(
+                    "--pabopto writes a general grid: it needs --grid general",
+                ));
+            }
+            let (ti_text, theta_i_deg) = list("--theta-i", &args.theta_i, "0,30,60,80")?;
+            let (to_text, theta_o_deg) = list("--theta-o", &args.theta_o, "106:254:2")?;
+            (
+                Grid::InPlane {
+                    theta_i_deg,
+                    theta_o_deg,
+                },
+                format!("--theta-i {ti_text} --theta-o {to_text}"),
+            )
+        }
+        GridArg::General => {
+            let (ti_text, theta_i_deg) = list("--theta-i", &args.theta_i, "0,30,60,120,150")?;
+            let (pi_text, phi_i_deg) = list("--phi-i", &args.phi_i, "0")?;
+            let (to_text, theta_o_deg) = list("--theta-o", &args.theta_o, "5:175:10")?;
+            let (po_text, phi_o_deg) = list("--phi-o", &args.phi_o, "0:340:20")?;
+            (
+                Grid::Spherical {
+                    theta_i_deg,
+                    phi_i_deg,
+                    theta_o_deg,
+                    phi_o_deg,
+                },
+                format!(
+                    "--grid general --theta-i {ti_text} --phi-i {pi_text} --theta-o {to_text} \
+                     --phi-o {po_text}"
+                ),
+            )
+        }
     };
     let kind = ModelKind::from(args.model);
-    let masking = fit_masking(args.scattering, args.masking)?;
-    if args.scattering == ScatteringArg::Multiple && args.walks == 0 {
-        return Err(CmdError::Usage(
-            "--walks must be a positive number of walks, got 0".into(),
+    let orders = ScatteringOrders::from(args.orders);
+    if orders == ScatteringOrders::Multiple {
+        return Err(usage(
+            "--orders multiple (orders >= 2 only) models no measurement: synthesise --orders \
+             single or all",
         ));
     }
+    if args.append && args.pabopto.is_some() {
+        return Err(usage(
+            "--append adds rows to a CSV file; pab-opto files are one per incidence",
+        ));
+    }
+    let masking = masking_of(orders, args.masking)?;
+    let walks = orders == ScatteringOrders::All;
     let spec = SynthSpec {
-        params: ModelParams {
+        model: Model {
             kind,
             alpha: args.alpha,
-            gamma: args.gamma.unwrap_or(f64::NAN),
+            gamma: args.gamma.map_or(Gamma::NotApplicable, Gamma::Fixed),
             scale: args.scale,
+            eta: check_eta_arg(args.eta)?,
+            masking,
+            orders,
+            walks: walks.then_some(args.walks),
+            seed: walks.then_some(args.seed),
         },
-        gamma_given: args.gamma.is_some(),
-        eta: check_eta_arg(args.eta)?,
-        masking: masking.into(),
-        scattering: match args.scattering {
-            ScatteringArg::Single => Scattering::Single,
-            ScatteringArg::Multiple => Scattering::Multiple,
-        },
-        walks: args.walks,
-        theta_i_deg: angles("--theta-i", &args.theta_i)?,
-        theta_o_deg: angles("--theta-o", &args.theta_o)?,
+        grid,
         noise: args.noise,
         seed: args.seed,
         name: args.sample.clone(),
     };
-    let sample = spec
-        .sample()
-        .map_err(|e| CmdError::Usage(format!("synth: {e}")))?;
+    let sample = spec.sample().map_err(|e| usage(format!("synth: {e}")))?;
 
     let gamma = args
         .gamma
         .map_or(String::new(), |g| format!(" --gamma {g}"));
-    let (scattering_flags, model_line) = match args.scattering {
-        ScatteringArg::Single => (
-            String::new(),
-            "single-scattering L = scale f_t cos(theta_i) / eta^2",
-        ),
-        ScatteringArg::Multiple => (
-            format!(" --scattering multiple --walks {}", args.walks),
-            "all-orders L = scale (f_single + f_multi) cos(theta_i) / eta^2, f_multi by the \
-             random walk",
-        ),
+    let value = match args.grid {
+        GridArg::InPlane => "L = scale f_t cos(theta_i) / eta^2",
+        GridArg::General => "BSDF = scale f",
+    };
+    let (orders_flags, model_line) = if walks {
+        (
+            format!(" --orders all --walks {}", args.walks),
+            format!("all orders: {value} with f = f_single + f_multi, f_multi by the random walk"),
+        )
+    } else {
+        (String::new(), format!("single scattering: {value}"))
     };
     let comment = format!(
         "stfit {} synth --model {} --alpha {}{gamma} --scale {} --noise {} --seed {} \
-         --theta-i {} --theta-o {} --eta {} --masking {}{scattering_flags} --sample {}\n\
-         {model_line} with noise max(0, L (1 + noise z))",
+         {grid_flags} --eta {} --masking {}{orders_flags} --sample {}\n\
+         {model_line}, with noise max(0, v (1 + noise z))",
         env!("CARGO_PKG_VERSION"),
         kind.name(),
         args.alpha,
         args.scale,
         args.noise,
         args.seed,
-        args.theta_i,
-        args.theta_o,
         args.eta,
         masking.name(),
         args.sample,
     );
-    let write_error = |path: &Path, e: std::io::Error| {
-        CmdError::Failed(format!("{}: cannot write: {e}", path.display()))
-    };
-    match (&args.out, args.append) {
-        (Some(path), true) => {
-            let header = !path.exists();
-            if !header {
-                check_header(path)?;
+    match (&args.out, args.pabopto) {
+        (Some(dir), Some(form)) => {
+            let form = match form {
+                PabArg::Dsf => PabValue::Dsf,
+                PabArg::Bsdf => PabValue::Bsdf,
+            };
+            if args.sample.contains('"') {
+                return Err(usage(
+                    "--sample: a pab-opto sample name cannot hold a double quote",
+                ));
             }
-            let mut file = OpenOptions::new()
-                .create(true)
-                .append(true)
-                .open(path)
-                .map_err(|e| write_error(path, e))?;
-            let mut buf = Vec::new();
-            write_csv(&mut buf, &[sample], header, Some(&comment))
-                .and_then(|()| file.write_all(&buf))
-                .map_err(|e| write_error(path, e))
+            let paths = write_pabopto(dir, &sample, form, Some(&comment))
+                .map_err(|e| failed(format!("{}: cannot write: {e}", dir.display())))?;
+            let mut listing = String::new();
+            for p in paths {
+                listing.push_str(&format!("{}\n", p.display()));
+            }
+            print_stdout(&listing)
         }
-        (Some(path), false) => {
-            let mut buf = Vec::new();
-            write_csv(&mut buf, &[sample], true, Some(&comment))
-                .and_then(|()| std::fs::write(path, &buf))
-                .map_err(|e| write_error(path, e))
+        (Some(path), None) => {
+            write_file(path, &[sample], Some(&comment), args.append).map_err(|e| match e {
+                SynthError::Append { .. } | SynthError::Io { .. } | SynthError::Load(_) => {
+                    failed(e)
+                }
+                other => usage(other),
+            })
         }
         (None, _) => {
             let mut buf = Vec::new();
-            write_csv(&mut buf, &[sample], true, Some(&comment))
-                .map_err(|e| CmdError::Failed(format!("cannot format the rows: {e}")))?;
+            write_csv(&mut buf, &[sample], true, Some(&comment)).map_err(failed)?;
             print_stdout(&String::from_utf8_lossy(&buf))
         }
-    }
-}
-
-/// Checks that an existing file to append to starts (after comments and blank lines) with the
-/// header that `synth` writes, so that the appended rows belong to its columns.
-fn check_header(path: &Path) -> CmdResult {
-    let bytes = std::fs::read(path)
-        .map_err(|e| CmdError::Failed(format!("{}: cannot read: {e}", path.display())))?;
-    let text = String::from_utf8_lossy(bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&bytes));
-    let expected = HEADER.join(",");
-    let found = text
-        .lines()
-        .enumerate()
-        .find(|(_, l)| !l.trim().is_empty() && !l.starts_with('#'));
-    match found {
-        Some((_, line)) if line.trim() == expected => {
-            if text.ends_with('\n') {
-                Ok(())
-            } else {
-                Err(CmdError::Failed(format!(
-                    "{}: cannot append: the file does not end with a line break",
-                    path.display()
-                )))
-            }
-        }
-        Some((i, line)) => Err(CmdError::Failed(format!(
-            "{}:{}: cannot append: the header is '{}', synth writes '{expected}'",
-            path.display(),
-            i + 1,
-            line.trim()
-        ))),
-        None => Err(CmdError::Failed(format!(
-            "{}: cannot append: the file has no header line",
-            path.display()
-        ))),
     }
 }

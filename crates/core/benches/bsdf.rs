@@ -6,7 +6,7 @@ use rand::SeedableRng;
 use rand_pcg::Pcg64;
 use std::hint::black_box;
 use stfit_core::Vec3;
-use stfit_core::bsdf::{Bsdf, Masking, RoughDielectric};
+use stfit_core::bsdf::{AnalyticBsdf, Bsdf, Masking, RoughDielectric};
 use stfit_core::math::{radians, spherical_direction};
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, Ndf, StudentT};
 

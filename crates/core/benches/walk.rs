@@ -11,7 +11,8 @@ use stfit_core::Vec3;
 use stfit_core::bsdf::Bsdf;
 use stfit_core::math::{radians, spherical_direction};
 use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
-use stfit_core::sphere::SphereNdf;
+use stfit_core::sphere::{HeightField, SphereNdf};
+use stfit_core::walk::Estimator;
 use stfit_core::walk::{DielectricFacet, Microsurface, NullMicrosurface};
 
 fn wi() -> Vec3 {
@@ -30,8 +31,11 @@ fn wos() -> Vec<Vec3> {
 }
 
 /// The null-scattering walk on the same surface, for comparison.
-fn bench_null<N: Ndf + SphereNdf>(c: &mut Criterion, name: &str, ndf: N) {
-    let ms = NullMicrosurface::new(ndf, DielectricFacet::new(1.51).unwrap()).unwrap();
+fn bench_null<N: Ndf + 'static>(c: &mut Criterion, name: &str, ndf: N)
+where
+    HeightField<N>: SphereNdf,
+{
+    let ms = NullMicrosurface::new(HeightField(ndf), DielectricFacet::new(1.51).unwrap()).unwrap();
     let wi = wi();
     let mut rng = Pcg64::seed_from_u64(1);
     c.bench_function(&format!("walk/{name}/null_sample"), |b| {
@@ -94,10 +98,13 @@ fn batch(c: &mut Criterion) {
 
 /// Walks per second of the null-scattering walk against the height-field walk on the same
 /// surface (dielectric facets, eta 1.51, light from air at 60 degrees): one `sample_walk` each.
-fn null_vs_hf_at<N: Ndf + SphereNdf>(c: &mut Criterion, name: &str, ndf: N) {
+fn null_vs_hf_at<N: Ndf + 'static>(c: &mut Criterion, name: &str, ndf: N)
+where
+    HeightField<N>: SphereNdf,
+{
     let facet = DielectricFacet::new(1.51).unwrap();
     let hf = Microsurface::new(ndf.clone(), facet);
-    let null = NullMicrosurface::new(ndf, facet).unwrap();
+    let null = NullMicrosurface::new(HeightField(ndf), facet).unwrap();
     let wi = wi();
     let mut group = c.benchmark_group(format!("walk_null_vs_hf/{name}"));
     let mut rng = Pcg64::seed_from_u64(1);

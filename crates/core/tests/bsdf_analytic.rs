@@ -6,8 +6,8 @@ use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64;
 use stfit_core::Vec3;
 use stfit_core::bsdf::{
-    Bsdf, Lambertian, Masking, RoughConductor, RoughDielectric, SmoothConductor, SmoothDielectric,
-    fresnel_conductor, fresnel_dielectric,
+    AnalyticBsdf, Bsdf, Lambertian, Masking, RoughConductor, RoughDielectric, SmoothConductor,
+    SmoothDielectric, fresnel_conductor, fresnel_dielectric,
 };
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, StudentT};
 

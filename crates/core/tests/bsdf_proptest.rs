@@ -8,7 +8,8 @@ use rand::SeedableRng;
 use rand_pcg::Pcg64;
 use stfit_core::Vec3;
 use stfit_core::bsdf::{
-    Bsdf, Lambertian, Masking, RoughConductor, RoughDielectric, SmoothConductor, SmoothDielectric,
+    AnalyticBsdf, Bsdf, Lambertian, Masking, RoughConductor, RoughDielectric, SmoothConductor,
+    SmoothDielectric,
 };
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, StudentT};
 

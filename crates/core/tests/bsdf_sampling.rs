@@ -12,7 +12,7 @@ use stfit_core::bsdf::{
     fresnel_conductor, fresnel_dielectric,
 };
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, Ndf, StudentT};
-use stfit_core::validate::bonferroni;
+use stfit_validate::bonferroni;
 
 /// The NDFs the samplers are tested with: every height-field NDF, Student-T with a moderate
 /// and a very heavy tail (gamma 1.6 is below GGX's 2).

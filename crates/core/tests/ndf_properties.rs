@@ -7,8 +7,8 @@ use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64;
 use stfit_core::math::{radians, spherical_direction};
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, Ndf, StudentT};
-use stfit_core::validate::integrate_sphere;
 use stfit_core::{ParamError, Vec3};
+use stfit_validate::integrate_sphere;
 
 const ALPHAS: [f64; 4] = [0.05, 0.3, 1.0, 2.0];
 const GAMMAS: [f64; 5] = [1.6, 2.0, 3.0, 10.0, 40.0];

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use stfit_core::Vec3;
 use stfit_core::math::{radians, spherical_direction};
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, Ndf, StudentT};
-use stfit_core::validate::{SphereBins, bonferroni, chi_square};
+use stfit_validate::{SphereBins, bonferroni, chi_square};
 
 const ALPHAS: [f64; 4] = [0.05, 0.3, 1.0, 2.0];
 const GAMMAS: [f64; 5] = [1.6, 2.0, 3.0, 10.0, 40.0];
@@ -162,4 +162,44 @@ fn samplers_are_robust_at_extremes() {
         assert_eq!(ndf.sigma(-z), 0.0);
         assert_eq!(ndf.sample_visible(-z, &mut rng), z);
     }
+}
+
+/// The two-uniform samplers of GGX and Beckmann (`sample_visible_from`, pbrt's
+/// `Sample_wm(w, u)`): uniform `u` gives exactly the visible-normal density, for directions
+/// above and below the horizon.
+#[test]
+fn two_uniform_samplers_match_d_visible() {
+    use rand::RngExt;
+    let mut cases: Vec<(AnyNdf, f64)> = Vec::new();
+    for &a in &[0.05, 0.3, 1.0, 2.0] {
+        for &t in &THETAS_DEG {
+            cases.push((Beckmann::new(a).unwrap().into(), t));
+            cases.push((Ggx::new(a).unwrap().into(), t));
+        }
+    }
+    cases.retain(|(ndf, t)| *t < 90.0 || ndf.sigma(spherical_direction(radians(*t), 0.7)) > 1e-4);
+    let significance = bonferroni(0.01, cases.len());
+    let failures: Vec<String> = cases
+        .par_iter()
+        .enumerate()
+        .filter_map(|(k, &(ndf, t))| {
+            let w = spherical_direction(radians(t), 0.7);
+            let mut rng = Pcg64::seed_from_u64(5000 + k as u64);
+            let samples: Vec<Vec3> = (0..SAMPLES)
+                .map(|_| {
+                    let u = [rng.random::<f64>(), rng.random::<f64>()];
+                    match ndf {
+                        AnyNdf::Beckmann(b) => b.sample_visible_from(w, u),
+                        AnyNdf::Ggx(g) => g.sample_visible_from(w, u),
+                        AnyNdf::StudentT(_) => unreachable!("only Beckmann and GGX cases"),
+                    }
+                })
+                .collect();
+            let density = move |wm: Vec3| ndf.d_visible(w, wm);
+            let bins = SphereBins::equal_mass(Vec3::z(), 24, 24, density);
+            let r = chi_square(&bins, &samples, density, &[w, Vec3::z()]);
+            (!r.passes(significance)).then(|| format!("{ndf:?} theta {t}: {r}"))
+        })
+        .collect();
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

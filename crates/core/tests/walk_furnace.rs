@@ -8,6 +8,7 @@ use stfit_core::Vec3;
 use stfit_core::bsdf::{Bsdf, fresnel_dielectric};
 use stfit_core::math::spherical_direction;
 use stfit_core::ndf::{AnyNdf, Ggx, Ndf};
+use stfit_core::walk::Estimator;
 use stfit_core::walk::{
     BsdfFacet, ConductorFacet, DielectricFacet, Facet, LambertianFacet, Microsurface,
 };

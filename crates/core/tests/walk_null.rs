@@ -8,7 +8,8 @@ use stfit_core::Vec3;
 use stfit_core::bsdf::Bsdf;
 use stfit_core::math::spherical_direction;
 use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
-use stfit_core::sphere::{Porous, SphereNdf, VonMisesFisher};
+use stfit_core::sphere::{HeightField, Porous, SphereNdf, VonMisesFisher};
+use stfit_core::walk::Estimator;
 use stfit_core::walk::{
     ConductorFacet, DielectricFacet, Facet, LambertianFacet, Microsurface, NullMicrosurface,
     ScatteringOrders,
@@ -39,7 +40,7 @@ fn null_walk_reproduces_the_height_field_walk() {
             let facet = DielectricFacet::new(eta).unwrap();
             for orders in [ScatteringOrders::Single, ScatteringOrders::All] {
                 let hf = Microsurface::new(ndf, facet).with_orders(orders);
-                let null = NullMicrosurface::new(ndf, facet)
+                let null = NullMicrosurface::new(HeightField(ndf), facet)
                     .unwrap()
                     .with_orders(orders);
                 for theta in [0.6, PI - 1.0] {
@@ -74,10 +75,13 @@ fn null_walk_reproduces_the_height_field_walk() {
 }
 
 /// Compares both walks on a dielectric of the given NDF, light from both sides.
-fn compare_walks<N: Ndf + SphereNdf + std::fmt::Debug>(ndf: N) {
+fn compare_walks<N: Ndf + std::fmt::Debug + 'static>(ndf: N)
+where
+    HeightField<N>: SphereNdf,
+{
     let facet = DielectricFacet::new(1.51).unwrap();
     let hf = Microsurface::new(ndf.clone(), facet);
-    let null = NullMicrosurface::new(ndf.clone(), facet).unwrap();
+    let null = NullMicrosurface::new(HeightField(ndf.clone()), facet).unwrap();
     for theta in [0.6, PI - 1.0] {
         let wi = spherical_direction(theta, 0.0);
         let what = format!("{ndf:?} theta {theta}");
@@ -113,7 +117,7 @@ fn null_walk_reproduces_opaque_height_field_facets() {
     let wi = spherical_direction(1.0, 0.0);
     let wos: Vec<Vec3> = directions().into_iter().filter(|w| w.z > 0.0).collect();
     let hf = Microsurface::new(ndf, LambertianFacet::new(0.8).unwrap());
-    let null = NullMicrosurface::new(ndf, LambertianFacet::new(0.8).unwrap()).unwrap();
+    let null = NullMicrosurface::new(HeightField(ndf), LambertianFacet::new(0.8).unwrap()).unwrap();
     let (a, b) = (hf.albedo(wi, 20_000, 5), null.albedo(wi, 20_000, 6));
     assert_close(
         (a.reflectance, a.reflectance_stderr),
@@ -132,7 +136,7 @@ fn null_walk_reproduces_opaque_height_field_facets() {
         );
     }
     let hf = Microsurface::new(ndf, ConductorFacet::mirror());
-    let null = NullMicrosurface::new(ndf, ConductorFacet::mirror()).unwrap();
+    let null = NullMicrosurface::new(HeightField(ndf), ConductorFacet::mirror()).unwrap();
     let (ea, eb) = (
         hf.eval_many(wi, &wos, 20_000, 7),
         null.eval_many(wi, &wos, 20_000, 8),
@@ -190,7 +194,7 @@ fn full_sphere_ndfs_pass_the_furnace() {
         let ms = NullMicrosurface::new(vmf, LambertianFacet::new(1.0).unwrap()).unwrap();
         assert_full_sphere_furnace(&ms, &format!("vMF {kappa} lambertian"));
     }
-    let porous = Porous::new(Ggx::new(0.5).unwrap(), 0.3).unwrap();
+    let porous = Porous::new(HeightField(Ggx::new(0.5).unwrap()), 0.3).unwrap();
     let ms = NullMicrosurface::new(porous, ConductorFacet::mirror()).unwrap();
     assert_full_sphere_furnace(&ms, "porous GGX 0.5 P 0.3 mirror");
 }
@@ -201,7 +205,7 @@ fn porosity_changes_the_result_and_zero_porosity_is_the_height_field() {
     let wi = spherical_direction(0.8, 0.0);
     let wo = spherical_direction(0.8, PI);
     let eval = |p: f64| {
-        let porous = Porous::new(ggx, p).unwrap();
+        let porous = Porous::new(HeightField(ggx), p).unwrap();
         NullMicrosurface::new(porous, ConductorFacet::mirror())
             .unwrap()
             .eval_many(wi, &[wo], 40_000, 10)[0]
@@ -223,9 +227,9 @@ fn porosity_changes_the_result_and_zero_porosity_is_the_height_field() {
 #[test]
 fn unbounded_ndfs_are_rejected() {
     let st = StudentT::new(0.5, 1.8).unwrap();
-    assert!(NullMicrosurface::new(st, ConductorFacet::mirror()).is_err());
+    assert!(NullMicrosurface::new(HeightField(st), ConductorFacet::mirror()).is_err());
     let st = StudentT::new(0.5, 3.0).unwrap();
-    assert!(NullMicrosurface::new(st, ConductorFacet::mirror()).is_ok());
+    assert!(NullMicrosurface::new(HeightField(st), ConductorFacet::mirror()).is_ok());
 }
 
 /// Reciprocity of the null walk's `eval`: `f(a, b) / n_b^2 = f(b, a) / n_a^2` (the index is
@@ -293,7 +297,7 @@ fn null_walk_eval_is_reciprocal() {
     let dirs = reciprocity_directions();
     let up: Vec<Vec3> = dirs.iter().copied().filter(|w| w.z > 0.0).collect();
     let vmf = VonMisesFisher::new(3.0).unwrap();
-    let porous = Porous::new(Beckmann::new(0.5).unwrap(), 0.3).unwrap();
+    let porous = Porous::new(HeightField(Beckmann::new(0.5).unwrap()), 0.3).unwrap();
     let conductor = ConductorFacet::fresnel(1.3, 2.2).unwrap();
     let lambert = LambertianFacet::new(0.8).unwrap();
     assert_reciprocal(
@@ -322,8 +326,11 @@ fn null_walk_eval_is_reciprocal() {
     );
     // Light and view on both sides of a rough dielectric: transmission carries eta^2.
     for eta in [1.51, 1.0 / 1.51] {
-        let ms = NullMicrosurface::new(Ggx::new(0.6).unwrap(), DielectricFacet::new(eta).unwrap())
-            .unwrap();
+        let ms = NullMicrosurface::new(
+            HeightField(Ggx::new(0.6).unwrap()),
+            DielectricFacet::new(eta).unwrap(),
+        )
+        .unwrap();
         assert_reciprocal(&ms, eta, &dirs, 30_000);
     }
 }
@@ -348,7 +355,7 @@ fn sample_eval_p_value<S: SphereNdf, F: Facet>(
 fn null_walk_samples_follow_its_eval() {
     let wi = spherical_direction(0.9, 0.0);
     let vmf = VonMisesFisher::new(3.0).unwrap();
-    let porous = Porous::new(Ggx::new(0.5).unwrap(), 0.3).unwrap();
+    let porous = Porous::new(HeightField(Ggx::new(0.5).unwrap()), 0.3).unwrap();
     let ggx = Ggx::new(0.6).unwrap();
     let p = [
         sample_eval_p_value(
@@ -362,13 +369,13 @@ fn null_walk_samples_follow_its_eval() {
             40_000,
         ),
         sample_eval_p_value(
-            &NullMicrosurface::new(ggx, DielectricFacet::new(1.51).unwrap()).unwrap(),
+            &NullMicrosurface::new(HeightField(ggx), DielectricFacet::new(1.51).unwrap()).unwrap(),
             wi,
             40_000,
         ),
     ];
     eprintln!("CHI2 p = {p:?}");
-    let threshold = stfit_core::validate::bonferroni(1e-3, p.len());
+    let threshold = stfit_validate::bonferroni(1e-3, p.len());
     assert!(p.iter().all(|&x| x > threshold), "p = {p:?}");
 }
 
@@ -380,7 +387,7 @@ fn null_walk_reproduces_conductor_facets_lit_from_inside() {
     let wi = spherical_direction(PI - 0.8, 0.0);
     let wos: Vec<Vec3> = directions().into_iter().filter(|w| w.z < 0.0).collect();
     let hf = Microsurface::new(ndf, facet);
-    let null = NullMicrosurface::new(ndf, facet).unwrap();
+    let null = NullMicrosurface::new(HeightField(ndf), facet).unwrap();
     let (a, b) = (hf.albedo(wi, 20_000, 5), null.albedo(wi, 20_000, 6));
     assert_close(
         (a.reflectance, a.reflectance_stderr),

@@ -5,8 +5,9 @@ use std::f64::consts::PI;
 use stfit_core::Vec3;
 use stfit_core::math::spherical_direction;
 use stfit_core::ndf::{AnyNdf, Ggx, Ndf};
-use stfit_core::validate::bonferroni;
+use stfit_core::walk::Estimator;
 use stfit_core::walk::{DielectricFacet, Facet, LambertianFacet, Microsurface};
+use stfit_validate::bonferroni;
 
 mod walk_cases;
 use walk_cases::{ggx, ndfs};

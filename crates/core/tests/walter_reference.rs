@@ -1,16 +1,13 @@
 //! Checks the single-scattering rough dielectric against independent Mitsuba 3.9.1 values
-//! (`../shared/reference/walter-btdf-reference.csv`, separable masking, exact Smith G1).
+//! (`tests/data/walter-btdf-reference.csv` of the project, copied from the shared folder with
+//! its provenance in `tests/data/README.md`; separable masking, exact Smith G1).
 
 use stfit_core::Vec3;
-use stfit_core::bsdf::{Masking, RoughDielectric};
+use stfit_core::bsdf::{AnalyticBsdf, Masking, RoughDielectric};
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx};
 
 fn reference_path() -> std::path::PathBuf {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../..");
-    std::env::var_os("STFIT_SHARED")
-        .map(std::path::PathBuf::from)
-        .unwrap_or_else(|| root.join("shared"))
-        .join("reference/walter-btdf-reference.csv")
+    stfit_test_support::project_root().join("tests/data/walter-btdf-reference.csv")
 }
 
 #[test]

@@ -1,35 +1,46 @@
-//! Speed of single fits and of `--model all` on a 300-point sample, and of one
-//! multiple-scattering model evaluation (the unit of cost of `--scattering multiple`).
+//! Speed of single fits and of `--model all` on a 300-point sample, and of one all-orders
+//! model evaluation (the unit of cost of `--orders all`).
 
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use stfit_core::bsdf::Masking;
 use stfit_fit::fit::{fit_all, fit_sample};
-use stfit_fit::{FitOptions, Measurement, ModelKind, ModelParams, ModelSpec, Optimizer, Sample};
+use stfit_fit::{
+    FitOptions, Gamma, Masking, Measurement, Model, ModelKind, ModelSpec, Optimizer, Sample,
+    ScatteringOrders,
+};
+
+/// The Student-T surface of the benchmarks.
+fn truth() -> Model {
+    Model::single(ModelKind::StudentT, 0.4, Gamma::Free(2.7), 0.8)
+}
+
+/// The Walter grid: theta_i 0, 30, 60, 80; theta_o 106..254 by 2.
+fn angles() -> Vec<(f64, f64)> {
+    [0.0, 30.0, 60.0, 80.0]
+        .iter()
+        .flat_map(|&ti| (0..75).map(move |k| (ti, 106.0 + 2.0 * k as f64)))
+        .collect()
+}
 
 /// A 300-point Walter-like sample (theta_i 0, 30, 60, 80; theta_o 106..254 by 2) of a
 /// Student-T surface with 2% deterministic ripple, so the fit does not start at a zero residual.
 fn sample() -> Sample {
-    let truth = ModelParams {
-        kind: ModelKind::StudentT,
-        alpha: 0.4,
-        gamma: 2.7,
-        scale: 0.8,
-    };
-    let mut points = Vec::new();
-    for ti in [0.0, 30.0, 60.0, 80.0] {
-        for k in 0..75 {
-            let to = 106.0 + 2.0 * k as f64;
-            let l = truth.l_single(ti, to, 1.51, Masking::Separable).unwrap();
-            points.push(Measurement {
-                theta_i_deg: ti,
-                theta_o_deg: to,
-                l: l * (1.0 + 0.02 * (k as f64 * 1.7).sin()),
-                weight: 1.0,
-            });
-        }
-    }
+    let angles = angles();
+    let l = truth().predict(&angles).unwrap();
+    let points = angles
+        .iter()
+        .zip(l)
+        .enumerate()
+        .map(|(j, (&(ti, to), l))| {
+            Measurement::in_plane(
+                ti,
+                to,
+                l * (1.0 + 0.02 * ((j % 75) as f64 * 1.7).sin()),
+                1.0,
+            )
+        })
+        .collect();
     Sample {
         name: "bench".into(),
         points,
@@ -38,7 +49,7 @@ fn sample() -> Sample {
 
 fn bench(c: &mut Criterion) {
     let s = sample();
-    let spec = |kind, gamma_fixed| ModelSpec { kind, gamma_fixed };
+    let spec = |kind, gamma_fixed| ModelSpec::new(kind, gamma_fixed).unwrap();
     let nm = FitOptions::default();
     let lbfgs = FitOptions {
         optimizer: Optimizer::Lbfgs,
@@ -61,28 +72,48 @@ fn bench(c: &mut Criterion) {
 /// One evaluation of the all-orders model on the 300-point grid: 4 incidence angles, 20000 walks
 /// each (the `--walks` default), as the multiple-scattering objective does per evaluation.
 fn bench_multiple(c: &mut Criterion) {
-    let angles: Vec<(f64, f64)> = sample()
-        .points
-        .iter()
-        .map(|p| (p.theta_i_deg, p.theta_o_deg))
-        .collect();
-    let params = ModelParams {
-        kind: ModelKind::StudentT,
-        alpha: 0.4,
-        gamma: 2.7,
-        scale: 0.8,
+    let angles = angles();
+    let all = Model {
+        masking: Masking::Correlated,
+        orders: ScatteringOrders::All,
+        walks: Some(20_000),
+        seed: Some(1),
+        ..truth()
     };
     let mut group = c.benchmark_group("multiple scattering");
     group.sample_size(10);
     group.bench_function("model at 300 points, 4 x 20000 walks", |b| {
-        b.iter(|| {
-            params
-                .l_multiple_batch(black_box(&angles), 1.51, 20_000, 1)
-                .unwrap()
-        })
+        b.iter(|| all.predict(black_box(&angles)).unwrap())
     });
     group.finish();
 }
 
-criterion_group!(benches, bench, bench_multiple);
+/// A general sample (reflection and transmission, light from both sides, out of plane: the
+/// default general grid of `stfit synth`, 1,620 points) fitted with free eta.
+fn bench_general(c: &mut Criterion) {
+    let truth = Model {
+        eta: 1.45,
+        ..truth()
+    };
+    let mut sample = stfit_fit::SynthSpec {
+        model: truth,
+        grid: stfit_fit::Grid::spherical_default(),
+        noise: 0.02,
+        seed: 1,
+        name: "general".into(),
+    }
+    .sample()
+    .unwrap();
+    sample.points.retain(|p| p.value > 0.0 || p.weight > 0.0);
+    let opts = FitOptions {
+        eta: stfit_fit::Parameter::Free,
+        ..FitOptions::default()
+    };
+    c.bench_function(
+        "fit student-t free gamma free eta, 1620 general points",
+        |b| b.iter(|| fit_sample(black_box(&sample), ModelSpec::student_t(), &opts).unwrap()),
+    );
+}
+
+criterion_group!(benches, bench, bench_multiple, bench_general);
 criterion_main!(benches);

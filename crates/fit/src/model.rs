@@ -1,10 +1,17 @@
-//! The models fitted to measurements, and what a fit reports.
+//! The models fitted to measurements: their NDF family and shape ([`ModelKind`], [`Gamma`]),
+//! what to fit ([`ModelSpec`]) and a fully specified model of the measured quantity
+//! ([`Model`]), which evaluates itself ([`Model::predict`]).
 
 use serde::{Deserialize, Serialize};
-use stfit_core::Vec3;
-use stfit_core::math::radians;
+use stfit_core::bsdf::Masking;
+use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, StudentT};
+use stfit_core::walk::ScatteringOrders;
 
-/// The NDF family of a fitted model.
+use crate::data::Measurement;
+use crate::fit::FitError;
+use crate::forward::Forward;
+
+/// The NDF family of a model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ModelKind {
@@ -24,187 +31,314 @@ impl ModelKind {
     }
 }
 
-/// A model to fit: a family, and for Student-T optionally a fixed gamma.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct ModelSpec {
-    pub kind: ModelKind,
-    /// Student-T only: hold gamma at this value instead of fitting it.
-    pub gamma_fixed: Option<f64>,
-}
+impl std::str::FromStr for ModelKind {
+    type Err = String;
 
-/// The result of fitting one model to one sample (the `--json` record).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct FitResult {
-    pub sample: String,
-    pub model: ModelKind,
-    pub alpha: f64,
-    /// `None` for Beckmann and GGX.
-    pub gamma: Option<f64>,
-    /// True when gamma was held fixed rather than fitted.
-    pub gamma_fixed: bool,
-    pub scale: f64,
-    /// Root-mean-square residual of `sqrt(L)` over the sample's points.
-    pub rmse_sqrt_l: f64,
-    pub n_points: usize,
-    /// Standard errors from the curvature of the loss at the optimum.
-    pub alpha_stderr: f64,
-    pub gamma_stderr: Option<f64>,
-    pub scale_stderr: f64,
-    pub iterations: u64,
-}
-
-/// Direction toward the light for incidence `theta_i` (degrees) from the outside:
-/// `wi = (-sin theta_i, 0, cos theta_i)`.
-pub fn wi_from_deg(theta_i_deg: f64) -> Vec3 {
-    let t = radians(theta_i_deg);
-    Vec3::new(-t.sin(), 0.0, t.cos())
-}
-
-/// Transmitted direction inside the glass for `theta_o` (degrees, 180 straight through):
-/// `wo = (sin(theta_o - 180), 0, -cos(theta_o - 180))`.
-pub fn wo_from_deg(theta_o_deg: f64) -> Vec3 {
-    let t = radians(theta_o_deg - 180.0);
-    Vec3::new(t.sin(), 0.0, -t.cos())
-}
-
-/// The loss minimised by a fit.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Loss {
-    /// Least squares on `sqrt(L)` (the published comparison's view).
-    #[default]
-    Sqrt,
-    /// Least squares on `L`.
-    Linear,
-}
-
-/// The optimiser used for the shape parameters.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Optimizer {
-    #[default]
-    NelderMead,
-    Lbfgs,
-}
-
-/// Which scattering orders the model BSDF includes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Scattering {
-    /// The analytic single-scattering BSDF of Walter et al. 2007.
-    #[default]
-    Single,
-    /// All orders, by the height-field random walk.
-    Multiple,
-}
-
-/// Settings shared by every fit in a run.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FitOptions {
-    /// Relative index of the glass (default 1.51).
-    pub eta: f64,
-    pub loss: Loss,
-    pub optimizer: Optimizer,
-    /// Smith masking of the single-scattering model. Ignored by `Scattering::Multiple`, whose
-    /// model is height-correlated by construction (the random walk's order 1 term).
-    pub masking: stfit_core::bsdf::Masking,
-    pub scattering: Scattering,
-    /// Seed of the random walks (common random numbers) for `Scattering::Multiple`.
-    pub seed: u64,
-    /// Random walks per incidence angle for `Scattering::Multiple`.
-    pub walk_samples: usize,
-}
-
-impl Default for FitOptions {
-    fn default() -> Self {
-        Self {
-            eta: 1.51,
-            loss: Loss::Sqrt,
-            optimizer: Optimizer::NelderMead,
-            masking: stfit_core::bsdf::Masking::Separable,
-            scattering: Scattering::Single,
-            seed: 1,
-            walk_samples: 100_000,
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "beckmann" => Ok(Self::Beckmann),
+            "ggx" => Ok(Self::Ggx),
+            "student-t" => Ok(Self::StudentT),
+            _ => Err(format!(
+                "unknown model '{s}' (expected beckmann, ggx or student-t)"
+            )),
         }
     }
 }
 
-/// A fully specified model: family, shape and calibration scale.
+/// The Student-T shape gamma of a model and how it was obtained: not applicable (Beckmann and
+/// GGX), held fixed at a value, or free. In a fitted or simulated model `Free` carries the
+/// value (`Gamma<f64>`, the default); in a [`ModelSpec`], which only says what to fit, it
+/// carries nothing (`Gamma<()>`).
+///
+/// In JSON a `Gamma` is the two keys `gamma` (the value, `null` when not applicable) and
+/// `gamma_fixed` (true when held fixed).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ModelParams {
-    pub kind: ModelKind,
-    pub alpha: f64,
-    /// Student-T shape; ignored for Beckmann and GGX.
-    pub gamma: f64,
-    pub scale: f64,
+pub enum Gamma<T = f64> {
+    /// Beckmann and GGX have no shape parameter.
+    NotApplicable,
+    /// Held at this value rather than fitted.
+    Fixed(f64),
+    /// Fitted (or to be fitted).
+    Free(T),
 }
 
-impl ModelParams {
-    /// The model's NDF, or the parameter error for alpha <= 0, gamma <= 3/2 or non-finite values.
-    pub fn ndf(&self) -> Result<stfit_core::ndf::AnyNdf, stfit_core::ParamError> {
-        use stfit_core::ndf::{Beckmann, Ggx, StudentT};
-        Ok(match self.kind {
-            ModelKind::Beckmann => Beckmann::new(self.alpha)?.into(),
-            ModelKind::Ggx => Ggx::new(self.alpha)?.into(),
-            ModelKind::StudentT => StudentT::new(self.alpha, self.gamma)?.into(),
+impl<T> Gamma<T> {
+    /// Whether gamma is held fixed.
+    pub fn is_fixed(&self) -> bool {
+        matches!(self, Self::Fixed(_))
+    }
+
+    /// Whether gamma is (to be) fitted.
+    pub fn is_free(&self) -> bool {
+        matches!(self, Self::Free(_))
+    }
+}
+
+impl Gamma {
+    /// The value of gamma, `None` when not applicable.
+    pub fn value(&self) -> Option<f64> {
+        match *self {
+            Self::NotApplicable => None,
+            Self::Fixed(g) | Self::Free(g) => Some(g),
+        }
+    }
+}
+
+/// The JSON form of a [`Gamma`]: `gamma` and `gamma_fixed`.
+#[derive(Serialize, Deserialize)]
+struct GammaKeys {
+    gamma: Option<f64>,
+    gamma_fixed: bool,
+}
+
+impl Serialize for Gamma {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        GammaKeys {
+            gamma: self.value(),
+            gamma_fixed: self.is_fixed(),
+        }
+        .serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for Gamma {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let keys = GammaKeys::deserialize(d)?;
+        match (keys.gamma, keys.gamma_fixed) {
+            (None, false) => Ok(Self::NotApplicable),
+            (Some(g), false) => Ok(Self::Free(g)),
+            (Some(g), true) => Ok(Self::Fixed(g)),
+            (None, true) => Err(serde::de::Error::custom(
+                "gamma_fixed is true but gamma is null",
+            )),
+        }
+    }
+}
+
+/// A model to fit: a family and, for Student-T, whether gamma is fitted or held at a value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModelSpec {
+    kind: ModelKind,
+    gamma: Gamma<()>,
+}
+
+impl ModelSpec {
+    /// Beckmann.
+    pub fn beckmann() -> Self {
+        Self {
+            kind: ModelKind::Beckmann,
+            gamma: Gamma::NotApplicable,
+        }
+    }
+
+    /// GGX.
+    pub fn ggx() -> Self {
+        Self {
+            kind: ModelKind::Ggx,
+            gamma: Gamma::NotApplicable,
+        }
+    }
+
+    /// Student-T with gamma fitted.
+    pub fn student_t() -> Self {
+        Self {
+            kind: ModelKind::StudentT,
+            gamma: Gamma::Free(()),
+        }
+    }
+
+    /// Student-T with gamma held at `gamma` (> 3/2, checked by the fit).
+    pub fn student_t_fixed(gamma: f64) -> Self {
+        Self {
+            kind: ModelKind::StudentT,
+            gamma: Gamma::Fixed(gamma),
+        }
+    }
+
+    /// The model of `kind`, with gamma held at `fixed_gamma` if given (Student-T only).
+    pub fn new(kind: ModelKind, fixed_gamma: Option<f64>) -> Result<Self, FitError> {
+        match (kind, fixed_gamma) {
+            (ModelKind::StudentT, Some(g)) => Ok(Self::student_t_fixed(g)),
+            (ModelKind::StudentT, None) => Ok(Self::student_t()),
+            (kind, Some(_)) => Err(FitError::InvalidSpec(format!(
+                "a fixed gamma applies to student-t only, not {}",
+                kind.name()
+            ))),
+            (ModelKind::Beckmann, None) => Ok(Self::beckmann()),
+            (ModelKind::Ggx, None) => Ok(Self::ggx()),
+        }
+    }
+
+    /// The NDF family.
+    pub fn kind(&self) -> ModelKind {
+        self.kind
+    }
+
+    /// What is done with gamma.
+    pub fn gamma(&self) -> Gamma<()> {
+        self.gamma
+    }
+
+    /// The model as named in messages: `student-t (gamma = 3)` for a fixed shape.
+    pub fn label(&self) -> String {
+        label(self.kind, &self.gamma)
+    }
+}
+
+/// A model family as named in messages, with its gamma if held fixed.
+fn label<T>(kind: ModelKind, gamma: &Gamma<T>) -> String {
+    match gamma {
+        Gamma::Fixed(g) => format!("{} (gamma = {g})", kind.name()),
+        _ => kind.name().to_owned(),
+    }
+}
+
+/// The four models of `--model all`, in this order: Beckmann, GGX, Student-T with gamma fixed
+/// at 3 (the seed paper's Figure 1), Student-T with free gamma.
+pub fn all_models() -> [ModelSpec; 4] {
+    [
+        ModelSpec::beckmann(),
+        ModelSpec::ggx(),
+        ModelSpec::student_t_fixed(3.0),
+        ModelSpec::student_t(),
+    ]
+}
+
+/// A fully specified model of the measured quantity `L`: NDF, calibration scale, the glass and
+/// the scattering computed. A fit finds one ([`crate::FitResult::model`]), `stfit synth`
+/// simulates one, and [`Model::predict`] evaluates it.
+///
+/// With `orders` single, `L = scale * f(wi, wo) * cos(theta_i) / eta^2` with Walter et al.'s
+/// single-scattering `f` and the chosen `masking`. With `orders` all,
+/// `f = f_single + f_multi`: the single-scattering BSDF with height-correlated masking (exactly
+/// the random walk's order 1) plus the walk's orders >= 2, estimated from `walks` walks per
+/// incident direction seeded from `seed` (common random numbers: the same numbers at every
+/// evaluation, so the model is a deterministic function of its parameters).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Model {
+    /// The NDF family (JSON key `model`).
+    #[serde(rename = "model")]
+    pub kind: ModelKind,
+    pub alpha: f64,
+    #[serde(flatten)]
+    pub gamma: Gamma,
+    pub scale: f64,
+    /// Relative index of refraction `n_inside / n_outside` of the glass.
+    pub eta: f64,
+    pub masking: Masking,
+    /// `single` or `all`.
+    pub orders: ScatteringOrders,
+    /// Walks per incident direction of the orders >= 2 term (`null` for single scattering).
+    pub walks: Option<u64>,
+    /// Seed of those walks (`null` for single scattering).
+    pub seed: Option<u64>,
+}
+
+impl Model {
+    /// The single-scattering model of `kind` with roughness `alpha`, shape `gamma` (for
+    /// Student-T; [`Gamma::NotApplicable`] otherwise) and `scale`, for the default glass
+    /// ([`DEFAULT_ETA`](crate::DEFAULT_ETA)) with separable masking, as the published fits
+    /// used; change any field with struct update syntax.
+    ///
+    /// ```
+    /// use stfit_fit::{Gamma, Model, ModelKind};
+    ///
+    /// let frosted = Model::single(ModelKind::StudentT, 0.42, Gamma::Fixed(2.7), 1.0);
+    /// let l = frosted.predict(&[(0.0, 180.0), (30.0, 170.0)])?;
+    /// assert!(l[0] > l[1]);
+    /// # Ok::<(), stfit_fit::FitError>(())
+    /// ```
+    pub fn single(kind: ModelKind, alpha: f64, gamma: Gamma, scale: f64) -> Self {
+        Self {
+            kind,
+            alpha,
+            gamma,
+            scale,
+            eta: crate::DEFAULT_ETA,
+            masking: Masking::Separable,
+            orders: ScatteringOrders::Single,
+            walks: None,
+            seed: None,
+        }
+    }
+
+    /// The model as named in messages: `student-t (gamma = 3)` for a fixed shape.
+    pub fn label(&self) -> String {
+        label(self.kind, &self.gamma)
+    }
+
+    /// The model's NDF, or the parameter error for alpha <= 0, gamma <= 3/2, non-finite values
+    /// or a gamma that does not fit the family.
+    pub fn ndf(&self) -> Result<AnyNdf, FitError> {
+        Ok(match (self.kind, self.gamma.value()) {
+            (ModelKind::Beckmann, None) => Beckmann::new(self.alpha)?.into(),
+            (ModelKind::Ggx, None) => Ggx::new(self.alpha)?.into(),
+            (ModelKind::StudentT, Some(g)) => StudentT::new(self.alpha, g)?.into(),
+            (ModelKind::StudentT, None) => {
+                return Err(FitError::InvalidSpec("student-t needs a gamma".into()));
+            }
+            (_, Some(_)) => {
+                return Err(FitError::InvalidSpec(
+                    "gamma is a Student-T parameter; beckmann and ggx take none".into(),
+                ));
+            }
         })
     }
 
-    /// Single-scattering model value `L = scale f_t(wi, wo) cos(theta_i) / eta^2` for angles in
-    /// degrees in the data convention.
-    pub fn l_single(
-        &self,
-        theta_i_deg: f64,
-        theta_o_deg: f64,
-        eta: f64,
-        masking: stfit_core::bsdf::Masking,
-    ) -> Result<f64, stfit_core::ParamError> {
-        let bsdf = stfit_core::bsdf::RoughDielectric::new(self.ndf()?, eta, masking)?;
-        let wi = wi_from_deg(theta_i_deg);
-        let wo = wo_from_deg(theta_o_deg);
-        // f_cos = f_t |wo.z|; L wants f_t cos(theta_i).
-        let f_t = bsdf.f_cos(wi, wo) / wo.z.abs();
-        Ok(self.scale * f_t * wi.z / (eta * eta))
+    /// Checks that the model can be evaluated: a valid NDF, a finite scale > 0, a valid eta,
+    /// `single` or `all` orders with a masking they allow, and walks and a seed exactly when
+    /// the orders need them.
+    pub fn check(&self) -> Result<(), FitError> {
+        self.ndf()?;
+        if !(self.scale.is_finite() && self.scale > 0.0) {
+            return Err(FitError::InvalidSpec(format!(
+                "scale must be finite and > 0, got {}",
+                self.scale
+            )));
+        }
+        stfit_core::error::check_eta(self.eta)?;
+        crate::options::check_orders(self.orders, self.masking)?;
+        match (self.orders, self.walks, self.seed) {
+            (ScatteringOrders::Single, None, None) => Ok(()),
+            (ScatteringOrders::Single, _, _) => Err(FitError::InvalidSpec(
+                "walks and seed apply only to orders all".into(),
+            )),
+            (_, Some(w), Some(_)) if w > 0 => Ok(()),
+            _ => Err(FitError::InvalidSpec(
+                "orders all need walks (> 0) and a seed".into(),
+            )),
+        }
     }
 
-    /// [`ModelParams::l_single`] at many `(theta_i_deg, theta_o_deg)` pairs at once: the
-    /// NDF-independent geometry is computed once per pair and Smith `Lambda` once per distinct
-    /// direction.
-    pub fn l_single_batch(
-        &self,
-        angles: &[(f64, f64)],
-        eta: f64,
-        masking: stfit_core::bsdf::Masking,
-    ) -> Result<Vec<f64>, stfit_core::ParamError> {
-        let ndf = self.ndf()?;
-        stfit_core::error::finite("scale", self.scale)?;
-        let geom = crate::objective::Geometry::new(angles.iter().copied(), eta)?;
-        let mut out = Vec::with_capacity(angles.len());
-        geom.unit_model(&ndf, masking, &mut out);
-        out.iter_mut().for_each(|l| *l *= self.scale);
-        Ok(out)
+    /// `L` at the in-plane configurations `(theta_i_deg, theta_o_deg)` (the data convention),
+    /// computed in one batch: the NDF-independent geometry once per pair, Smith `Lambda` once
+    /// per distinct direction, the walks once per incidence angle.
+    pub fn predict(&self, angles: &[(f64, f64)]) -> Result<Vec<f64>, FitError> {
+        let points: Vec<Measurement> = angles
+            .iter()
+            .map(|&(ti, to)| Measurement::in_plane(ti, to, 0.0, 1.0))
+            .collect();
+        self.predict_points(&points)
     }
 
-    /// The all-orders model `L = scale (f_single + f_multi) cos(theta_i) / eta^2` at many
-    /// `(theta_i_deg, theta_o_deg)` pairs: `f_single` the analytic single-scattering BTDF with
-    /// height-correlated masking (exactly the walk's order 1), `f_multi` the order >= 2 estimate
-    /// of `walks` random walks per incidence angle from `seed` (see
-    /// [`MultipleGeometry`](crate::objective::MultipleGeometry)).
-    pub fn l_multiple_batch(
-        &self,
-        angles: &[(f64, f64)],
-        eta: f64,
-        walks: u64,
-        seed: u64,
-    ) -> Result<Vec<f64>, stfit_core::ParamError> {
-        let mut out = self.l_single_batch(angles, eta, stfit_core::bsdf::Masking::Correlated)?;
-        let multi =
-            crate::objective::MultipleGeometry::new(angles.iter().copied(), eta, walks, seed)?;
-        let mut m = vec![0.0; angles.len()];
-        multi.add_unit_model(&self.ndf()?, &mut m)?;
-        out.iter_mut()
-            .zip(&m)
-            .for_each(|(l, m)| *l += self.scale * m);
+    /// The model's value at every measured point, in that point's quantity (`L` of an in-plane
+    /// point, the BSDF of a general one), in one batch as [`Model::predict`].
+    pub fn predict_points(&self, points: &[Measurement]) -> Result<Vec<f64>, FitError> {
+        self.check()?;
+        let pairs: Vec<_> = points.iter().map(Measurement::directions).collect();
+        let quantity = points.iter().map(Measurement::quantity).collect();
+        let forward = Forward::new(
+            &pairs,
+            quantity,
+            self.masking,
+            self.orders,
+            self.walks.unwrap_or(0),
+            self.seed.unwrap_or(0),
+        )?;
+        let mut out = Vec::with_capacity(pairs.len());
+        forward.unit_model(&self.ndf()?, self.eta, &mut out)?;
+        out.iter_mut().for_each(|v| *v *= self.scale);
         Ok(out)
     }
 }

@@ -9,7 +9,7 @@ use argmin::solver::linesearch::MoreThuenteLineSearch;
 use argmin::solver::neldermead::NelderMead;
 use argmin::solver::quasinewton::LBFGS;
 
-use crate::model::Optimizer;
+use crate::options::Optimizer;
 
 /// Iteration cap of one local minimisation.
 pub const MAX_ITERS: u64 = 400;

@@ -3,8 +3,10 @@
 mod common;
 
 use stfit_core::ParamError;
-use stfit_fit::fit::{FitError, fit_all, fit_sample, predict};
-use stfit_fit::{FitOptions, Measurement, ModelKind, ModelParams, ModelSpec, Sample, Scattering};
+use stfit_fit::fit::{FitError, fit_all, fit_sample};
+use stfit_fit::{
+    FitOptions, Gamma, Masking, Measurement, Model, ModelKind, ModelSpec, Sample, ScatteringOrders,
+};
 
 fn sample(points: Vec<Measurement>) -> Sample {
     Sample {
@@ -14,29 +16,22 @@ fn sample(points: Vec<Measurement>) -> Sample {
 }
 
 fn point(theta_i_deg: f64, theta_o_deg: f64, l: f64) -> Measurement {
-    Measurement {
-        theta_i_deg,
-        theta_o_deg,
-        l,
-        weight: 1.0,
-    }
+    Measurement::in_plane(theta_i_deg, theta_o_deg, l, 1.0)
 }
 
 fn spec(kind: ModelKind, gamma_fixed: Option<f64>) -> ModelSpec {
-    ModelSpec { kind, gamma_fixed }
+    match gamma_fixed {
+        Some(g) if kind != ModelKind::StudentT => {
+            // Not constructible: the only way to ask for this is through ModelSpec::new.
+            assert!(ModelSpec::new(kind, Some(g)).is_err());
+            ModelSpec::new(kind, None).unwrap()
+        }
+        _ => ModelSpec::new(kind, gamma_fixed).unwrap(),
+    }
 }
 
 fn good() -> Sample {
-    common::synthetic(
-        &ModelParams {
-            kind: ModelKind::Ggx,
-            alpha: 0.3,
-            gamma: f64::NAN,
-            scale: 1.0,
-        },
-        0.0,
-        1,
-    )
+    common::synthetic(&common::truth(ModelKind::Ggx, 0.3, 0.0, 1.0), 0.0, 1)
 }
 
 #[test]
@@ -63,7 +58,7 @@ fn empty_sample_is_too_few_points() {
 #[test]
 fn all_zero_data_is_rejected() {
     let mut s = good();
-    s.points.iter_mut().for_each(|p| p.l = 0.0);
+    s.points.iter_mut().for_each(|p| p.value = 0.0);
     for kind in [ModelKind::Beckmann, ModelKind::Ggx, ModelKind::StudentT] {
         let e = fit_sample(&s, spec(kind, None), &FitOptions::default()).unwrap_err();
         assert!(matches!(e, FitError::AllZero { .. }), "{e}");
@@ -84,7 +79,7 @@ fn invalid_gamma_is_rejected() {
             "gamma {g}: {e}"
         );
     }
-    let e = fit_sample(&s, spec(ModelKind::Ggx, Some(3.0)), &opts).unwrap_err();
+    let e = ModelSpec::new(ModelKind::Ggx, Some(3.0)).unwrap_err();
     assert!(matches!(e, FitError::InvalidSpec(_)), "{e}");
 }
 
@@ -111,27 +106,38 @@ fn invalid_points_and_options_are_rejected() {
         );
     }
     for eta in [1.0, 0.0, -1.5, f64::NAN] {
-        let o = FitOptions { eta, ..opts };
+        let o = FitOptions {
+            eta: stfit_fit::Parameter::Fixed(eta),
+            ..opts
+        };
         let e = fit_sample(&good(), ggx, &o).unwrap_err();
         assert!(matches!(e, FitError::InvalidParameter(_)), "eta {eta}: {e}");
     }
-    let no_walks = FitOptions {
-        scattering: Scattering::Multiple,
-        walk_samples: 0,
-        ..opts
-    };
+    let all = FitOptions::with_orders(ScatteringOrders::All);
+    for bad in [
+        FitOptions { walks: 0, ..all },
+        // Orders >= 2 only model no measurement.
+        FitOptions {
+            orders: ScatteringOrders::Multiple,
+            ..all
+        },
+        // The walk's masking is height-correlated by construction.
+        FitOptions {
+            masking: Masking::Separable,
+            ..all
+        },
+    ] {
+        assert!(
+            matches!(
+                fit_sample(&good(), ggx, &bad),
+                Err(FitError::InvalidSpec(_))
+            ),
+            "{bad:?}"
+        );
+    }
+    let model = Model::single(ModelKind::StudentT, 0.3, Gamma::Free(1.2), 1.0);
     assert!(matches!(
-        fit_sample(&good(), ggx, &no_walks),
-        Err(FitError::InvalidSpec(_))
-    ));
-    let params = ModelParams {
-        kind: ModelKind::StudentT,
-        alpha: 0.3,
-        gamma: 1.2,
-        scale: 1.0,
-    };
-    assert!(matches!(
-        predict(&params, &[(0.0, 180.0)], &opts),
+        model.predict(&[(0.0, 180.0)]),
         Err(FitError::InvalidParameter(ParamError::Gamma(_)))
     ));
 }
@@ -147,7 +153,7 @@ fn zero_weight_points_are_ignored() {
     let r = fit_sample(&s, spec(ModelKind::Ggx, None), &FitOptions::default()).unwrap();
     assert_eq!(r.n_points, 300);
     assert!(
-        (r.alpha - 0.3).abs() < 1e-6 && (r.scale - 1.0).abs() < 1e-6,
+        (r.model.alpha - 0.3).abs() < 1e-6 && (r.model.scale - 1.0).abs() < 1e-6,
         "{r:?}"
     );
 }

@@ -1,10 +1,11 @@
-//! Fitting with multiple scattering (`Scattering::Multiple`): deterministic for a seed (common
+//! Fitting with all scattering orders (`ScatteringOrders::All`): deterministic for a seed (common
 //! random numbers), recovers the truth of data made with multiple scattering, where the
 //! single-scattering fit of the same data is biased.
 
 use stfit_fit::fit::fit_sample;
 use stfit_fit::{
-    FitOptions, FitResult, Measurement, ModelKind, ModelParams, ModelSpec, Sample, Scattering,
+    FitOptions, FitResult, Gamma, Masking, Measurement, Model, ModelKind, ModelSpec, Sample,
+    ScatteringOrders,
 };
 
 /// A coarse grid: incidence 0, 30, 60 degrees, transmission 110 to 250 degrees in steps of 5.
@@ -15,42 +16,38 @@ fn angles() -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// Noise-free multiple-scattering data of `truth` from `walks` walks per incidence (seed 1000,
+/// Noise-free all-orders data of `truth` from `walks` walks per incidence (seed 1000,
 /// independent of the fits' seeds).
-fn multiple_scattering_sample(truth: &ModelParams, walks: u64) -> Sample {
+fn multiple_scattering_sample(truth: &Model, walks: u64) -> Sample {
     let angles = angles();
-    let l = truth
-        .l_multiple_batch(&angles, 1.51, walks, 1000)
-        .expect("valid parameters");
+    let all = Model {
+        masking: Masking::Correlated,
+        orders: ScatteringOrders::All,
+        walks: Some(walks),
+        seed: Some(1000),
+        ..*truth
+    };
+    let l = all.predict(&angles).expect("valid parameters");
     Sample {
         name: "multiple".into(),
         points: angles
             .iter()
             .zip(l)
-            .map(|(&(ti, to), l)| Measurement {
-                theta_i_deg: ti,
-                theta_o_deg: to,
-                l,
-                weight: 1.0,
-            })
+            .map(|(&(ti, to), l)| Measurement::in_plane(ti, to, l, 1.0))
             .collect(),
     }
 }
 
-fn multiple(walks: usize, seed: u64) -> FitOptions {
+fn multiple(walks: u64, seed: u64) -> FitOptions {
     FitOptions {
-        scattering: Scattering::Multiple,
-        walk_samples: walks,
+        walks,
         seed,
-        ..FitOptions::default()
+        ..FitOptions::with_orders(ScatteringOrders::All)
     }
 }
 
 fn spec(kind: ModelKind) -> ModelSpec {
-    ModelSpec {
-        kind,
-        gamma_fixed: None,
-    }
+    ModelSpec::new(kind, None).unwrap()
 }
 
 fn rel(a: f64, b: f64) -> f64 {
@@ -61,12 +58,12 @@ fn show(label: &str, r: &FitResult) {
     println!(
         "{label}: alpha {:.5} +- {:.2e}, gamma {:?} +- {:?}, scale {:.5} +- {:.2e}, rmse {:.3e}, \
          iterations {}",
-        r.alpha,
-        r.alpha_stderr,
-        r.gamma,
+        r.model.alpha,
+        r.alpha_stderr.unwrap_or(f64::NAN),
+        r.model.gamma,
         r.gamma_stderr,
-        r.scale,
-        r.scale_stderr,
+        r.model.scale,
+        r.scale_stderr.unwrap_or(f64::NAN),
         r.rmse_sqrt_l,
         r.iterations
     );
@@ -74,12 +71,7 @@ fn show(label: &str, r: &FitResult) {
 
 #[test]
 fn multiple_scattering_fit_is_deterministic_for_a_seed() {
-    let truth = ModelParams {
-        kind: ModelKind::Ggx,
-        alpha: 0.5,
-        gamma: f64::NAN,
-        scale: 1.0,
-    };
+    let truth = Model::single(ModelKind::Ggx, 0.5, Gamma::NotApplicable, 1.0);
     let sample = multiple_scattering_sample(&truth, 2000);
     let a = fit_sample(&sample, spec(ModelKind::Ggx), &multiple(1000, 3)).unwrap();
     let b = fit_sample(&sample, spec(ModelKind::Ggx), &multiple(1000, 3)).unwrap();
@@ -90,39 +82,49 @@ fn multiple_scattering_fit_is_deterministic_for_a_seed() {
         serde_json::to_string(&a).unwrap(),
         serde_json::to_string(&b).unwrap()
     );
-    assert_ne!(a.alpha, c.alpha, "another seed gives other walks");
+    assert_ne!(
+        a.model.alpha, c.model.alpha,
+        "another seed gives other walks"
+    );
 }
 
 #[test]
 fn multiple_scattering_fit_recovers_multiple_scattering_data() {
-    let truth = ModelParams {
-        kind: ModelKind::StudentT,
-        alpha: 0.6,
-        gamma: 2.5,
-        scale: 1.0,
-    };
+    let truth = Model::single(ModelKind::StudentT, 0.6, Gamma::Free(2.5), 1.0);
+    let truth_gamma = 2.5;
     let sample = multiple_scattering_sample(&truth, 40_000);
     let ms = fit_sample(&sample, spec(ModelKind::StudentT), &multiple(5000, 1)).unwrap();
     let ss = fit_sample(&sample, spec(ModelKind::StudentT), &FitOptions::default()).unwrap();
     show("multiple", &ms);
     show("single", &ss);
-    let (ms_gamma, ss_gamma) = (ms.gamma.unwrap(), ss.gamma.unwrap());
+    let (ms_gamma, ss_gamma) = (
+        ms.model.gamma.value().unwrap(),
+        ss.model.gamma.value().unwrap(),
+    );
     // The issue's bands.
-    assert!(rel(ms.alpha, truth.alpha) < 0.02, "alpha {}", ms.alpha);
-    assert!(rel(ms_gamma, truth.gamma) < 0.10, "gamma {ms_gamma}");
-    assert!(rel(ms.scale, truth.scale) < 0.03, "scale {}", ms.scale);
+    assert!(
+        rel(ms.model.alpha, truth.alpha) < 0.02,
+        "alpha {}",
+        ms.model.alpha
+    );
+    assert!(rel(ms_gamma, truth_gamma) < 0.10, "gamma {ms_gamma}");
+    assert!(
+        rel(ms.model.scale, truth.scale) < 0.03,
+        "scale {}",
+        ms.model.scale
+    );
     // Single scattering explains the multiply scattered light with a heavier tail (lower gamma)
     // and a larger scale: off the truth by several of its own standard errors, and fitting
     // the data ten times worse.
-    let gamma_bias = truth.gamma - ss_gamma;
+    let gamma_bias = truth_gamma - ss_gamma;
     assert!(
-        gamma_bias > 0.03 * truth.gamma && gamma_bias > 3.0 * ss.gamma_stderr.unwrap(),
+        gamma_bias > 0.03 * truth_gamma && gamma_bias > 3.0 * ss.gamma_stderr.unwrap(),
         "single-scattering gamma {ss_gamma}"
     );
     assert!(
-        ss.scale - truth.scale > 3.0 * ss.scale_stderr,
+        ss.model.scale - truth.scale > 3.0 * ss.scale_stderr.unwrap(),
         "single-scattering scale {}",
-        ss.scale
+        ss.model.scale
     );
     assert!(ms.rmse_sqrt_l < ss.rmse_sqrt_l / 5.0);
 }

@@ -3,45 +3,38 @@
 
 mod common;
 
+use common::truth as params;
 use stfit_fit::fit::fit_sample;
-use stfit_fit::{FitOptions, FitResult, ModelKind, ModelParams, ModelSpec};
-
-fn params(kind: ModelKind, alpha: f64, gamma: f64, scale: f64) -> ModelParams {
-    ModelParams {
-        kind,
-        alpha,
-        gamma,
-        scale,
-    }
-}
+use stfit_fit::{FitOptions, FitResult, Gamma, Model, ModelKind, ModelSpec};
 
 fn spec(kind: ModelKind) -> ModelSpec {
-    ModelSpec {
-        kind,
-        gamma_fixed: None,
-    }
+    ModelSpec::new(kind, None).unwrap()
+}
+
+fn gamma_of(m: &Model) -> f64 {
+    m.gamma.value().unwrap_or(f64::NAN)
 }
 
 fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
-fn fit(truth: &ModelParams, noise: f64, seed: u64) -> FitResult {
+fn fit(truth: &Model, noise: f64, seed: u64) -> FitResult {
     let sample = common::synthetic(truth, noise, seed);
     let r = fit_sample(&sample, spec(truth.kind), &FitOptions::default()).unwrap();
     println!(
-        "{:?} truth alpha {} gamma {} scale {} noise {noise}: fit alpha {:.6} (+-{:.2e}) gamma {:?} \
+        "{:?} truth alpha {} gamma {:?} scale {} noise {noise}: fit alpha {:.6} (+-{:.2e}) gamma {:?} \
          (+-{:?}) scale {:.6} (+-{:.2e}) rmse {:.3e} iters {}",
         truth.kind,
         truth.alpha,
         truth.gamma,
         truth.scale,
-        r.alpha,
-        r.alpha_stderr,
-        r.gamma,
+        r.model.alpha,
+        r.alpha_stderr.unwrap_or(f64::NAN),
+        r.model.gamma,
         r.gamma_stderr,
-        r.scale,
-        r.scale_stderr,
+        r.model.scale,
+        r.scale_stderr.unwrap_or(f64::NAN),
         r.rmse_sqrt_l,
         r.iterations
     );
@@ -49,7 +42,7 @@ fn fit(truth: &ModelParams, noise: f64, seed: u64) -> FitResult {
 }
 
 /// The cases: every model, alpha across [0.1, 0.8], gamma across [1.7, 8].
-fn cases() -> Vec<ModelParams> {
+fn cases() -> Vec<Model> {
     use ModelKind::*;
     vec![
         params(Beckmann, 0.1, 0.0, 1.0),
@@ -70,22 +63,22 @@ fn cases() -> Vec<ModelParams> {
 fn exact_data_is_recovered() {
     for truth in cases() {
         let r = fit(&truth, 0.0, 1);
-        assert_eq!(r.model, truth.kind);
+        assert_eq!(r.model.kind, truth.kind);
         assert!(
-            rel(r.alpha, truth.alpha) < 1e-4,
+            rel(r.model.alpha, truth.alpha) < 1e-4,
             "{truth:?}: alpha {}",
-            r.alpha
+            r.model.alpha
         );
         assert!(
-            rel(r.scale, truth.scale) < 1e-4,
+            rel(r.model.scale, truth.scale) < 1e-4,
             "{truth:?}: scale {}",
-            r.scale
+            r.model.scale
         );
         if truth.kind == ModelKind::StudentT {
-            let g = r.gamma.unwrap();
-            assert!(rel(g, truth.gamma) < 1e-4, "{truth:?}: gamma {g}");
+            let g = r.model.gamma.value().unwrap();
+            assert!(rel(g, gamma_of(&truth)) < 1e-4, "{truth:?}: gamma {g}");
         } else {
-            assert_eq!(r.gamma, None);
+            assert_eq!(r.model.gamma, Gamma::NotApplicable);
         }
         assert!(
             r.rmse_sqrt_l < 1e-6 * truth.scale.sqrt(),
@@ -101,19 +94,19 @@ fn noisy_data_is_recovered_within_tolerance() {
         for (noise, seed) in [(0.01, 10 + k as u64), (0.03, 100 + k as u64)] {
             let r = fit(&truth, noise, seed);
             assert!(
-                rel(r.alpha, truth.alpha) < 0.02,
+                rel(r.model.alpha, truth.alpha) < 0.02,
                 "{truth:?} noise {noise}: alpha {}",
-                r.alpha
+                r.model.alpha
             );
             assert!(
-                rel(r.scale, truth.scale) < 0.03,
+                rel(r.model.scale, truth.scale) < 0.03,
                 "{truth:?} noise {noise}: scale {}",
-                r.scale
+                r.model.scale
             );
             if truth.kind == ModelKind::StudentT {
-                let g = r.gamma.unwrap();
+                let g = r.model.gamma.value().unwrap();
                 assert!(
-                    rel(g, truth.gamma) < 0.10,
+                    rel(g, gamma_of(&truth)) < 0.10,
                     "{truth:?} noise {noise}: gamma {g}"
                 );
             }
@@ -125,16 +118,13 @@ fn noisy_data_is_recovered_within_tolerance() {
 fn fixed_gamma_fits_alpha_and_scale_only() {
     let truth = params(ModelKind::StudentT, 0.25, 3.0, 2.0);
     let sample = common::synthetic(&truth, 0.0, 3);
-    let spec = ModelSpec {
-        kind: ModelKind::StudentT,
-        gamma_fixed: Some(3.0),
-    };
+    let spec = ModelSpec::student_t_fixed(3.0);
     let r = fit_sample(&sample, spec, &FitOptions::default()).unwrap();
-    assert!(r.gamma_fixed);
-    assert_eq!(r.gamma, Some(3.0));
-    assert_eq!(r.gamma_stderr, Some(0.0));
+    assert_eq!(r.model.gamma, Gamma::Fixed(3.0));
+    // A fixed parameter has no standard error.
+    assert_eq!(r.gamma_stderr, None);
     assert!(
-        rel(r.alpha, 0.25) < 1e-4 && rel(r.scale, 2.0) < 1e-4,
+        rel(r.model.alpha, 0.25) < 1e-4 && rel(r.model.scale, 2.0) < 1e-4,
         "{r:?}"
     );
 }
@@ -150,7 +140,7 @@ enum Noise {
 
 /// Ratio of the empirical standard deviation of the estimates of `(alpha, gamma, scale)` over
 /// `reps` noisy replications of `truth` to the mean reported standard error.
-fn calibration(truth: ModelParams, noise: Noise, reps: usize, seed: u64) -> [f64; 3] {
+fn calibration(truth: Model, noise: Noise, reps: usize, seed: u64) -> [f64; 3] {
     use rand::{RngExt, SeedableRng};
     let clean = common::synthetic(&truth, 0.0, 0);
     let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
@@ -162,20 +152,24 @@ fn calibration(truth: ModelParams, noise: Noise, reps: usize, seed: u64) -> [f64
             // Box-Muller normal deviate.
             let (u1, u2): (f64, f64) = (rng.random(), rng.random());
             let z = (-2.0 * (1.0 - u1).ln()).sqrt() * (std::f64::consts::TAU * u2).cos();
-            p.l = match noise {
+            p.value = match noise {
                 Noise::AdditiveSqrt(sd) => {
-                    let y = p.l.sqrt() + sd * z;
+                    let y = p.value.sqrt() + sd * z;
                     y * y.abs()
                 }
-                Noise::Multiplicative(sd) => p.l * (1.0 + sd * z),
+                Noise::Multiplicative(sd) => p.value * (1.0 + sd * z),
             };
         }
         let r = fit_sample(&sample, spec(truth.kind), &FitOptions::default()).unwrap();
-        est.push([r.alpha, r.gamma.unwrap_or(0.0), r.scale]);
+        est.push([
+            r.model.alpha,
+            r.model.gamma.value().unwrap_or(0.0),
+            r.model.scale,
+        ]);
         se.push([
-            r.alpha_stderr,
+            r.alpha_stderr.unwrap(),
             r.gamma_stderr.unwrap_or(0.0),
-            r.scale_stderr,
+            r.scale_stderr.unwrap(),
         ]);
     }
     let mut ratios = [f64::NAN; 3];
@@ -227,9 +221,9 @@ fn student_t_on_beckmann_data_goes_to_large_gamma() {
     let truth = params(ModelKind::Beckmann, 0.3, 0.0, 1.0);
     let sample = common::synthetic(&truth, 0.0, 5);
     let st = fit_sample(&sample, spec(ModelKind::StudentT), &FitOptions::default()).unwrap();
-    let g = st.gamma.unwrap();
+    let g = st.model.gamma.value().unwrap();
     println!("student-t on beckmann data: {st:?}");
     assert!(g > 30.0, "gamma {g}");
-    assert!(rel(st.alpha, 0.3) < 0.02, "alpha {}", st.alpha);
+    assert!(rel(st.model.alpha, 0.3) < 0.02, "alpha {}", st.model.alpha);
     assert!(st.rmse_sqrt_l < 2e-3, "rmse {}", st.rmse_sqrt_l);
 }

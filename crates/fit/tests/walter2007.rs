@@ -2,8 +2,8 @@
 //! the seed paper's Figure 1): Student-T fits frosted and etched glass better than GGX, and GGX
 //! better than Beckmann; for ground glass GGX is about as good as Student-T.
 //!
-//! Reads `../shared/data/walter2007/measurements.csv` (or `$STFIT_SHARED/data/...`) and fails if
-//! it is missing.
+//! Reads `../shared/data/walter2007/measurements.csv` (or `$STFIT_SHARED/data/...`); without it
+//! the tests say they did not run, and under `CI=true` they fail.
 
 mod common;
 
@@ -12,13 +12,15 @@ use stfit_fit::{FitOptions, FitResult, ModelKind};
 
 fn by_name(fits: &[FitResult], kind: ModelKind, gamma_fixed: bool) -> &FitResult {
     fits.iter()
-        .find(|f| f.model == kind && f.gamma_fixed == gamma_fixed)
+        .find(|f| f.model.kind == kind && f.model.gamma.is_fixed() == gamma_fixed)
         .expect("model present")
 }
 
 #[test]
 fn student_t_reproduces_the_published_ranking() {
-    let samples = common::walter_samples();
+    let Some(samples) = common::walter_samples("student_t_reproduces_the_published_ranking") else {
+        return;
+    };
     let names: Vec<&str> = samples.iter().map(|s| s.name.as_str()).collect();
     assert_eq!(names, ["frosted", "etched", "ground"]);
     println!("sample    model        alpha     gamma     scale      rmse_sqrt_l  iters");
@@ -31,16 +33,17 @@ fn student_t_reproduces_the_published_ranking() {
                 f.sample,
                 format!(
                     "{}{}",
-                    f.model.name(),
-                    if f.gamma_fixed { "(3)" } else { "" }
+                    f.model.kind.name(),
+                    if f.model.gamma.is_fixed() { "(3)" } else { "" }
                 ),
-                f.alpha,
-                f.alpha_stderr,
-                f.gamma
-                    .map(|g| format!("{g:.3}+-{:.3}", f.gamma_stderr.unwrap()))
-                    .unwrap_or_default(),
-                f.scale,
-                f.scale_stderr,
+                f.model.alpha,
+                f.alpha_stderr.unwrap(),
+                match f.model.gamma {
+                    stfit_fit::Gamma::Free(g) => format!("{g:.3}+-{:.3}", f.gamma_stderr.unwrap()),
+                    _ => String::new(),
+                },
+                f.model.scale,
+                f.scale_stderr.unwrap(),
                 f.rmse_sqrt_l,
                 f.iterations
             );
@@ -49,7 +52,7 @@ fn student_t_reproduces_the_published_ranking() {
         let ggx = by_name(&fits, ModelKind::Ggx, false).rmse_sqrt_l;
         let st = by_name(&fits, ModelKind::StudentT, false);
         let st3 = by_name(&fits, ModelKind::StudentT, true).rmse_sqrt_l;
-        let gamma = st.gamma.unwrap();
+        let gamma = st.model.gamma.value().unwrap();
         // Free gamma includes gamma = 3 and gamma = 2 (GGX): it can never fit worse.
         assert!(st.rmse_sqrt_l <= st3 * (1.0 + 1e-6) && st.rmse_sqrt_l <= ggx * (1.0 + 1e-6));
         match sample.name.as_str() {
@@ -87,15 +90,20 @@ fn linear_loss_lands_on_gamma_three_for_frosted_and_etched() {
         loss: stfit_fit::Loss::Linear,
         ..FitOptions::default()
     };
-    for sample in common::walter_samples() {
+    let Some(samples) =
+        common::walter_samples("linear_loss_lands_on_gamma_three_for_frosted_and_etched")
+    else {
+        return;
+    };
+    for sample in samples {
         let fits = fit_all(&sample, &opts).unwrap();
         let beckmann = by_name(&fits, ModelKind::Beckmann, false).rmse_sqrt_l;
         let ggx = by_name(&fits, ModelKind::Ggx, false).rmse_sqrt_l;
         let st = by_name(&fits, ModelKind::StudentT, false);
-        let gamma = st.gamma.unwrap();
+        let gamma = st.model.gamma.value().unwrap();
         println!(
             "{}: linear loss, student-t gamma {gamma:.3}, alpha {:.4}",
-            sample.name, st.alpha
+            sample.name, st.model.alpha
         );
         match sample.name.as_str() {
             "frosted" | "etched" => {

@@ -5,23 +5,22 @@ use std::hint::black_box;
 use std::path::PathBuf;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use stfit_core::bsdf::Masking;
-use stfit_fit::{Dataset, FitResult, Measurement, ModelKind, ModelParams, Sample};
+use stfit_fit::{
+    Dataset, FitResult, Gamma, Loss, Measurement, Model, ModelKind, Optimizer, Sample,
+};
 use stfit_report::{ReportOptions, render_report};
 
-fn sample(name: &str, truth: ModelParams) -> Sample {
-    let points = [0.0, 30.0, 60.0, 80.0]
+fn sample(name: &str, truth: Model) -> Sample {
+    let angles: Vec<(f64, f64)> = [0.0, 30.0, 60.0, 80.0]
         .iter()
-        .flat_map(|&ti| {
-            (0..75).map(move |k| {
-                let to = 105.82 + (253.89 - 105.82) * k as f64 / 74.0;
-                Measurement {
-                    theta_i_deg: ti,
-                    theta_o_deg: to,
-                    l: truth.l_single(ti, to, 1.51, Masking::Separable).unwrap(),
-                    weight: 1.0,
-                }
-            })
+        .flat_map(|&ti| (0..75).map(move |k| (ti, 105.82 + (253.89 - 105.82) * k as f64 / 74.0)))
+        .collect();
+    let l = truth.predict(&angles).unwrap();
+    let points = angles
+        .iter()
+        .zip(l)
+        .map(|(&(theta_i_deg, theta_o_deg), l)| {
+            Measurement::in_plane(theta_i_deg, theta_o_deg, l, 1.0)
         })
         .collect();
     Sample {
@@ -30,32 +29,37 @@ fn sample(name: &str, truth: ModelParams) -> Sample {
     }
 }
 
-fn fit(sample: &Sample, kind: ModelKind, alpha: f64, gamma: Option<f64>, fixed: bool) -> FitResult {
+fn fit(sample: &Sample, kind: ModelKind, alpha: f64, gamma: Gamma) -> FitResult {
     FitResult {
         sample: sample.name.clone(),
-        model: kind,
-        alpha,
-        gamma,
-        gamma_fixed: fixed,
-        scale: 1.0,
+        model: Model::single(kind, alpha, gamma, 1.0),
+        loss: Loss::Sqrt,
+        optimizer: Optimizer::NelderMead,
         rmse_sqrt_l: 0.0,
         n_points: sample.points.len(),
-        alpha_stderr: 0.0,
+        alpha_stderr: None,
         gamma_stderr: None,
-        scale_stderr: 0.0,
+        scale_stderr: None,
         iterations: 0,
+        data: None,
+        stfit_version: "bench".into(),
+        eta_fixed: true,
+        scale_fixed: false,
+        log_floor: None,
+        eta_stderr: None,
+        measured: sample.measured(),
     }
 }
 
 fn data(n: usize) -> (Dataset, Vec<FitResult>) {
     let samples: Vec<Sample> = (0..n)
         .map(|i| {
-            let truth = ModelParams {
-                kind: ModelKind::StudentT,
-                alpha: 0.2 + 0.1 * i as f64,
-                gamma: 2.5,
-                scale: 1.0,
-            };
+            let truth = Model::single(
+                ModelKind::StudentT,
+                0.2 + 0.1 * i as f64,
+                Gamma::Free(2.5),
+                1.0,
+            );
             sample(&format!("s{i}"), truth)
         })
         .collect();
@@ -63,10 +67,10 @@ fn data(n: usize) -> (Dataset, Vec<FitResult>) {
         .iter()
         .flat_map(|s| {
             [
-                fit(s, ModelKind::Beckmann, 0.2, None, false),
-                fit(s, ModelKind::Ggx, 0.2, None, false),
-                fit(s, ModelKind::StudentT, 0.2, Some(3.0), true),
-                fit(s, ModelKind::StudentT, 0.2, Some(2.5), false),
+                fit(s, ModelKind::Beckmann, 0.2, Gamma::NotApplicable),
+                fit(s, ModelKind::Ggx, 0.2, Gamma::NotApplicable),
+                fit(s, ModelKind::StudentT, 0.2, Gamma::Fixed(3.0)),
+                fit(s, ModelKind::StudentT, 0.2, Gamma::Free(2.5)),
             ]
         })
         .collect();

@@ -3,7 +3,6 @@
 use std::path::PathBuf;
 
 use plotters::drawing::DrawingAreaErrorKind;
-use stfit_core::ParamError;
 use thiserror::Error;
 
 /// Why a report could not be made.
@@ -15,9 +14,6 @@ pub enum ReportError {
     /// A sample has no measurements.
     #[error("sample `{0}` has no measurements")]
     EmptySample(String),
-    /// The report options are invalid (for example `eta`).
-    #[error("invalid report option: {0}")]
-    Options(#[source] ParamError),
     /// A fit names a sample that is not in the data.
     #[error("fit of model {model} names sample `{sample}`, which is not in the data")]
     UnknownSample { sample: String, model: String },
@@ -53,9 +49,6 @@ pub enum ReportError {
     /// PNG encoding failed.
     #[error("PNG encoding failed: {0}")]
     Png(#[from] png::EncodingError),
-    /// Stored fits could not be parsed.
-    #[error("stored fits are not valid JSON of the form {{\"fits\": [...]}}: {0}")]
-    Json(#[from] serde_json::Error),
     /// A file or directory could not be written.
     #[error("cannot write {path}: {source}")]
     Io {

@@ -3,8 +3,8 @@
 //!
 //! The data convention is that of `stfit-fit` (theory section 8): light from air at `theta_i`,
 //! `theta_o` the transmitted direction inside the glass (180 degrees straight through), and the
-//! plotted quantity `sqrt(L)` (the published view) or `L`, with model curves
-//! `L = scale * f_t(wi, wo) * cos(theta_i) / eta^2` from the single-scattering BTDF.
+//! plotted quantity `sqrt(L)` (the published view) or `L`. Each fit is drawn with its own model
+//! ([`stfit_fit::Model::predict`]): its eta, masking and scattering orders, as it was fitted.
 //!
 //! [`render_report`] draws everything in memory; [`Report::write_to`] writes it to a folder:
 //!
@@ -21,6 +21,7 @@
 
 mod error;
 mod figures;
+mod general;
 mod render;
 mod style;
 mod table;
@@ -29,17 +30,16 @@ mod view;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use serde::{Deserialize, Serialize};
-use stfit_core::bsdf::Masking;
 use stfit_fit::{Dataset, FitResult};
 
 pub use error::ReportError;
 pub use figures::{clip_below, fmt_tick};
 pub use style::fmt_sig;
-pub use table::fits_markdown;
+pub use table::{fits_markdown, fits_table};
 pub use view::ModelSlot;
 
 use figures::{NdfFigure, OverviewFigure, SampleFigure};
+use general::{GeneralView, PlaneFigure, PolarFigure};
 use render::{Figure, render_png, render_svg};
 use style::AnglePalette;
 use view::SampleView;
@@ -54,34 +54,10 @@ pub enum YScale {
     Linear,
 }
 
-/// How to draw a report. `eta` and `masking` must be those the fits were made with.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// How to draw a report. The model of every curve comes from its fit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct ReportOptions {
     pub y_scale: YScale,
-    /// Relative index of the glass (1.51 for the Walter data).
-    pub eta: f64,
-    pub masking: Masking,
-}
-
-impl Default for ReportOptions {
-    fn default() -> Self {
-        Self {
-            y_scale: YScale::Sqrt,
-            eta: 1.51,
-            masking: Masking::Separable,
-        }
-    }
-}
-
-/// The stored-fits JSON written by `stfit fit --json`: `{"fits": [FitResult, ...]}`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct FitsFile {
-    pub fits: Vec<FitResult>,
-}
-
-/// Parses stored fits (`{"fits": [...]}`).
-pub fn read_fits_json(json: &str) -> Result<Vec<FitResult>, ReportError> {
-    Ok(serde_json::from_str::<FitsFile>(json)?.fits)
 }
 
 /// One output file, in memory.
@@ -122,6 +98,18 @@ impl Report {
                 Ok(path)
             })
             .collect()
+    }
+}
+
+/// The scattering orders and masking of a model, as tables and messages state them: for
+/// example `single scattering, separable masking` or `all orders (20000 walks, seed 1)`.
+pub fn model_description(m: &stfit_fit::Model) -> String {
+    match (m.orders, m.walks, m.seed) {
+        (stfit_fit::ScatteringOrders::Single, _, _) => {
+            format!("single scattering, {} masking", m.masking.name())
+        }
+        (_, Some(w), Some(s)) => format!("all orders ({w} walks, seed {s})"),
+        _ => "all orders".to_string(),
     }
 }
 
@@ -220,7 +208,6 @@ pub fn render_report(
     if data.samples.is_empty() {
         return Err(ReportError::NoSamples);
     }
-    stfit_core::error::check_eta(opts.eta).map_err(ReportError::Options)?;
     let slots = assign_fits(data, fits)?;
 
     let mut stems: HashMap<String, &str> = HashMap::new();
@@ -234,77 +221,142 @@ pub fn render_report(
         }
     }
 
-    let views = data
-        .samples
-        .iter()
-        .zip(slots)
-        .map(|(s, f)| SampleView::new(s, f, opts))
-        .collect::<Result<Vec<_>, _>>()?;
+    // In-plane samples get the Walter-form figures, general samples theirs.
+    let mut in_plane = Vec::new();
+    let mut general = Vec::new();
+    for (sample, fits) in data.samples.iter().zip(slots) {
+        if sample.is_in_plane() {
+            in_plane.push(SampleView::new(sample, fits, opts)?);
+        } else {
+            general.push(GeneralView::new(sample, fits, opts.y_scale)?);
+        }
+    }
     let palette = AnglePalette::new(
         data.samples
             .iter()
-            .flat_map(|s| s.points.iter().map(|m| m.theta_i_deg)),
+            .flat_map(|s| s.points.iter().map(|m| m.theta_i_deg())),
     );
-
+    // (sample title, [(fit, recomputed rmse)]) of every sample, in data order.
+    let mut rmse_checks: Vec<(&str, Vec<(&FitResult, f64)>)> = Vec::new();
+    for v in &in_plane {
+        rmse_checks.push((
+            v.title(),
+            v.panels
+                .iter()
+                .flatten()
+                .map(|p| (p.fit, p.rmse_sqrt_l))
+                .collect(),
+        ));
+    }
+    for v in &general {
+        rmse_checks.push((
+            v.title(),
+            v.panels
+                .iter()
+                .flatten()
+                .map(|p| (p.fit, p.rmse_sqrt))
+                .collect(),
+        ));
+    }
     let mut warnings = Vec::new();
-    for view in &views {
-        for p in view.panels.iter().flatten() {
-            let stored = p.fit.rmse_sqrt_l;
-            if (p.rmse_sqrt_l - stored).abs() > RMSE_TOLERANCE * stored.abs().max(1e-3) {
+    for (title, checks) in &rmse_checks {
+        for &(fit, recomputed) in checks {
+            let stored = fit.rmse_sqrt_l;
+            if (recomputed - stored).abs() > RMSE_TOLERANCE * stored.abs().max(1e-3) {
                 warnings.push(format!(
-                    "sample `{}`, {}: the stored rmse of sqrt(L) is {} but the data and the \
-                     fitted parameters give {} (single scattering, eta {}); the fit may come \
-                     from other data or other options",
-                    view.title(),
-                    ModelSlot::of(p.fit).title(),
+                    "sample `{title}`, {}: the stored rmse of the square root of the data is {} \
+                     but the data and the fitted model ({}, eta {}) give {}; the fit may come \
+                     from other data",
+                    ModelSlot::of(fit).title(),
                     fmt_sig(stored, 6),
-                    fmt_sig(p.rmse_sqrt_l, 6),
-                    opts.eta
+                    model_description(&fit.model),
+                    fit.model.eta,
+                    fmt_sig(recomputed, 6),
                 ));
             }
         }
     }
 
     let mut files = Vec::new();
-    let mut figure_names = Vec::new();
-    for view in &views {
-        let stem = file_stem(view.name);
-        push_figure(
-            &mut files,
-            &format!("{stem}-fits"),
-            &SampleFigure::fits(view, &palette, opts.y_scale),
-        )?;
-        push_figure(
-            &mut files,
-            &format!("{stem}-residuals"),
-            &SampleFigure::residuals(view, &palette, opts.y_scale),
-        )?;
-        figure_names.push((
-            view.title().to_string(),
-            format!("{stem}-fits.png"),
-            format!("{stem}-residuals.png"),
-        ));
+    let mut figure_names: Vec<(String, Vec<(&'static str, String)>)> = Vec::new();
+    let mut ndfs: Vec<(String, [Option<stfit_core::ndf::AnyNdf>; 4])> = Vec::new();
+    for sample in &data.samples {
+        let stem = file_stem(&sample.name);
+        if let Some(view) = in_plane.iter().find(|v| v.name == sample.name) {
+            push_figure(
+                &mut files,
+                &format!("{stem}-fits"),
+                &SampleFigure::fits(view, &palette, opts.y_scale),
+            )?;
+            push_figure(
+                &mut files,
+                &format!("{stem}-residuals"),
+                &SampleFigure::residuals(view, &palette, opts.y_scale),
+            )?;
+            figure_names.push((
+                view.title().to_string(),
+                vec![
+                    ("fits", format!("{stem}-fits.png")),
+                    ("residuals", format!("{stem}-residuals.png")),
+                ],
+            ));
+            ndfs.push((
+                view.title().to_string(),
+                view.panels.clone().map(|p| p.map(|p| p.ndf)),
+            ));
+        } else if let Some(view) = general.iter().find(|v| v.name == sample.name) {
+            push_figure(
+                &mut files,
+                &format!("{stem}-plane"),
+                &PlaneFigure {
+                    view,
+                    palette: &palette,
+                    y_scale: opts.y_scale,
+                },
+            )?;
+            push_figure(
+                &mut files,
+                &format!("{stem}-polar"),
+                &PolarFigure {
+                    view,
+                    y_scale: opts.y_scale,
+                },
+            )?;
+            figure_names.push((
+                view.title().to_string(),
+                vec![
+                    ("plane of incidence", format!("{stem}-plane.png")),
+                    ("residual maps", format!("{stem}-polar.png")),
+                ],
+            ));
+            ndfs.push((
+                view.title().to_string(),
+                view.panels.clone().map(|p| p.map(|p| p.ndf)),
+            ));
+        }
     }
-    let overview = OverviewFigure {
-        views: &views,
-        palette: &palette,
-        y_scale: opts.y_scale,
-    };
-    push_figure(&mut files, "overview", &overview)?;
-    push_figure(&mut files, "ndf", &NdfFigure { views: &views })?;
+    if !in_plane.is_empty() {
+        let overview = OverviewFigure {
+            views: &in_plane,
+            palette: &palette,
+            y_scale: opts.y_scale,
+        };
+        push_figure(&mut files, "overview", &overview)?;
+    }
+    push_figure(&mut files, "ndf", &NdfFigure { samples: &ndfs })?;
 
-    let by_sample: Vec<(&str, Vec<&FitResult>)> = views
+    let by_sample: Vec<(&str, Vec<&FitResult>)> = rmse_checks
         .iter()
-        .map(|v| {
-            (
-                v.title(),
-                v.panels.iter().flatten().map(|p| p.fit).collect(),
-            )
-        })
+        .map(|(title, checks)| (*title, checks.iter().map(|c| c.0).collect()))
+        .collect();
+    // The fits table in data order.
+    let by_sample: Vec<(&str, Vec<&FitResult>)> = figure_names
+        .iter()
+        .filter_map(|(title, _)| by_sample.iter().find(|(t, _)| t == title).cloned())
         .collect();
     files.push(ReportFile {
         name: "fits.md".to_string(),
-        contents: fits_markdown(&by_sample, &figure_names, opts).into_bytes(),
+        contents: fits_markdown(&by_sample, &figure_names, !in_plane.is_empty(), opts).into_bytes(),
     });
     Ok(Report { files, warnings })
 }

@@ -1,60 +1,190 @@
-//! `fits.md`: every fit of the report as a markdown table.
+//! Tables of fits: the text table the command line prints ([`fits_table`]) and `fits.md`, the
+//! markdown table of a report ([`fits_markdown`]). Both use [`fmt_sig`] for every number.
 
 use std::fmt::Write;
 
-use stfit_fit::FitResult;
+use stfit_fit::{FitResult, Gamma, Measured};
 
 use crate::style::fmt_sig;
 use crate::view::ModelSlot;
-use crate::{ReportOptions, YScale};
+use crate::{ReportOptions, YScale, model_description};
 
-/// `value ± stderr`, or the value alone when the error is not finite.
-fn with_error(value: f64, stderr: f64) -> String {
-    if stderr.is_finite() {
-        format!("{} ± {}", fmt_sig(value, 4), fmt_sig(stderr, 2))
-    } else {
-        fmt_sig(value, 4)
+/// `value ± stderr` with `digits` significant digits of the value and two of the error, or the
+/// value alone when the error is undefined.
+fn with_error(value: f64, stderr: Option<f64>, digits: usize) -> String {
+    match stderr {
+        Some(se) => format!("{} ± {}", fmt_sig(value, digits), fmt_sig(se, 2)),
+        None => fmt_sig(value, digits),
     }
 }
 
-fn gamma_cell(fit: &FitResult) -> String {
-    match (fit.gamma, fit.gamma_fixed) {
-        (None, _) => "–".to_string(),
-        (Some(g), true) => format!("{g} (fixed)"),
-        (Some(g), false) => with_error(g, fit.gamma_stderr.unwrap_or(f64::NAN)),
+/// The gamma of a fit: `-` when not applicable, `3 (fixed)` when held, else with its error.
+fn gamma_cell(fit: &FitResult, digits: usize) -> String {
+    match fit.model.gamma {
+        Gamma::NotApplicable => "-".to_string(),
+        Gamma::Fixed(g) => format!("{} (fixed)", fmt_sig(g, digits)),
+        Gamma::Free(g) => with_error(g, fit.gamma_stderr, digits),
     }
+}
+
+/// The eta of a fit: `1.51 (fixed)` when held, else with its error.
+fn eta_cell(fit: &FitResult, digits: usize) -> String {
+    if fit.eta_fixed {
+        format!("{} (fixed)", fmt_sig(fit.model.eta, digits))
+    } else {
+        with_error(fit.model.eta, fit.eta_stderr, digits)
+    }
+}
+
+/// The scale of a fit: `1 (fixed)` when held, else with its error.
+fn scale_cell(fit: &FitResult, digits: usize) -> String {
+    if fit.scale_fixed {
+        format!("{} (fixed)", fmt_sig(fit.model.scale, digits))
+    } else {
+        with_error(fit.model.scale, fit.scale_stderr, digits)
+    }
+}
+
+/// What the fits' points measure together, for a column header: `sqrt(L)` when every fit's
+/// points give `L`, and so on.
+fn rmse_header<'a>(fits: impl IntoIterator<Item = &'a FitResult>) -> String {
+    let mut measured: Option<Measured> = None;
+    for f in fits {
+        measured = Some(match measured {
+            None => f.measured,
+            Some(m) if m == f.measured => m,
+            Some(_) => Measured::Both,
+        });
+    }
+    format!("rmse {}", measured.unwrap_or_default().sqrt_label())
+}
+
+/// A sample name for a table cell: `-` when empty, control characters escaped, so that a row
+/// stays on one line whatever the name holds.
+fn sample_cell(name: &str) -> String {
+    if name.is_empty() {
+        return "-".to_string();
+    }
+    name.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_default().collect()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
+/// The readable text table of fits, one row per sample and model, columns aligned: sample,
+/// model, alpha, gamma, eta (when any fit fitted it), scale (each with its standard error, or
+/// marked fixed), the rmse of the square root of what was measured (`sqrt(L)` or
+/// `sqrt(BSDF)`) and the number of points.
+pub fn fits_table(fits: &[FitResult]) -> String {
+    // An eta column when any fit fitted it.
+    let eta = fits.iter().any(|f| !f.eta_fixed);
+    let mut header: Vec<String> = ["sample", "model", "alpha", "gamma"]
+        .map(String::from)
+        .to_vec();
+    if eta {
+        header.push("eta".into());
+    }
+    header.extend(["scale".to_string(), rmse_header(fits), "n".to_string()]);
+    let rows: Vec<Vec<String>> = fits
+        .iter()
+        .map(|f| {
+            let mut row = vec![
+                sample_cell(&f.sample),
+                f.model.kind.name().into(),
+                with_error(f.model.alpha, f.alpha_stderr, 5),
+                gamma_cell(f, 5),
+            ];
+            if eta {
+                row.push(eta_cell(f, 5));
+            }
+            row.extend([
+                scale_cell(f, 5),
+                fmt_sig(f.rmse_sqrt_l, 4),
+                f.n_points.to_string(),
+            ]);
+            row
+        })
+        .collect();
+    let mut widths: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
+    for row in &rows {
+        for (w, cell) in widths.iter_mut().zip(row) {
+            *w = (*w).max(cell.chars().count());
+        }
+    }
+    let mut text = String::new();
+    for row in std::iter::once(&header).chain(&rows) {
+        let mut line = String::new();
+        for (i, (cell, &w)) in row.iter().zip(&widths).enumerate() {
+            if i > 0 {
+                line.push_str("  ");
+            }
+            // The count column is right-aligned, the others left-aligned.
+            if i == row.len() - 1 {
+                let _ = write!(line, "{cell:>w$}");
+            } else {
+                let _ = write!(line, "{cell:<w$}");
+            }
+        }
+        text.push_str(line.trim_end());
+        text.push('\n');
+    }
+    text
 }
 
 /// The markdown of `fits.md`: one table row per fit, grouped by sample in data order and by
-/// model in panel order; the lowest rmse of each sample in bold. `figures` lists, per sample,
-/// `(sample name, fit figure file, residual figure file)`.
+/// model in panel order, each naming the model actually fitted (orders, masking, eta); the
+/// lowest rmse of each sample in bold. `figures` lists, per sample, its name and its figures
+/// as `(what, file)`; `overview` says whether the report has an overview figure.
 pub fn fits_markdown(
     samples: &[(&str, Vec<&FitResult>)],
-    figures: &[(String, String, String)],
+    figures: &[(String, Vec<(&str, String)>)],
+    overview: bool,
     opts: &ReportOptions,
 ) -> String {
     let mut md = String::new();
     md.push_str("# Fits\n\n");
-    let masking = match opts.masking {
-        stfit_core::bsdf::Masking::Separable => "separable",
-        stfit_core::bsdf::Masking::Correlated => "height-correlated",
+    let all = || samples.iter().flat_map(|(_, fits)| fits.iter().copied());
+    let measured = all().fold(None, |acc: Option<Measured>, f| match acc {
+        None => Some(f.measured),
+        Some(m) if m == f.measured => Some(m),
+        Some(_) => Some(Measured::Both),
+    });
+    let model = match measured.unwrap_or_default() {
+        Measured::L => {
+            "Rough-dielectric BTDF (Walter et al. 2007): `L = scale * f_t * cos(theta_i) / eta^2`"
+        }
+        Measured::Bsdf => {
+            "Rough-dielectric BSDF (Walter et al. 2007, reflection and transmission): \
+             `bsdf = scale * f`"
+        }
+        Measured::Both => {
+            "Rough-dielectric BSDF (Walter et al. 2007): `L = scale * f_t * cos(theta_i) / \
+             eta^2` for in-plane points, `bsdf = scale * f` for general ones"
+        }
     };
+    let rmse_header = rmse_header(all());
     let _ = writeln!(
         md,
-        "Single-scattering rough-dielectric BTDF (Walter et al. 2007), eta = {}, {masking} \
-         masking: `L = scale * f_t * cos(theta_i) / eta^2`. rmse is of sqrt(L) over the points \
-         of weight > 0 (the fitted points); ± gives standard errors; the lowest rmse of each \
-         sample is in bold. Figures plot {}.\n",
-        opts.eta,
+        "{model}, each fit with the model it was fitted with. {} is over the points of \
+         weight > 0 (the fitted points); ± gives standard errors; the lowest rmse of each sample \
+         is in bold. Figures of in-plane data plot {}.\n",
+        rmse_header,
         match opts.y_scale {
             YScale::Sqrt => "sqrt(L)",
             YScale::Linear => "L",
         }
     );
-    md.push_str(
-        "| sample | model | alpha | gamma | scale | rmse sqrt(L) | points | iterations |\n",
+    let _ = writeln!(
+        md,
+        "| sample | model | fitted with | alpha | gamma | eta | scale | {rmse_header} | points | \
+         iterations |"
     );
-    md.push_str("|---|---|---:|---:|---:|---:|---:|---:|\n");
+    md.push_str("|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
     for (name, fits) in samples {
         let best = fits
             .iter()
@@ -70,12 +200,14 @@ pub fn fits_markdown(
             };
             let _ = writeln!(
                 md,
-                "| {} | {} | {} | {} | {} | {} | {} | {} |",
-                name,
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                sample_cell(name).replace('|', "\\|"),
                 ModelSlot::of(fit).title(),
-                with_error(fit.alpha, fit.alpha_stderr),
-                gamma_cell(fit),
-                with_error(fit.scale, fit.scale_stderr),
+                model_description(&fit.model),
+                with_error(fit.model.alpha, fit.alpha_stderr, 4),
+                gamma_cell(fit, 4),
+                eta_cell(fit, 4),
+                scale_cell(fit, 4),
                 rmse,
                 fit.n_points,
                 fit.iterations
@@ -83,12 +215,83 @@ pub fn fits_markdown(
         }
     }
     md.push_str("\n## Figures\n\n");
-    md.push_str("- [All samples and models](overview.png)\n- [Fitted NDFs](ndf.png)\n");
-    for (name, fit_png, residual_png) in figures {
-        let _ = writeln!(
-            md,
-            "- {name}: [fits]({fit_png}), [residuals]({residual_png})"
-        );
+    if overview {
+        md.push_str("- [All samples and models](overview.png)\n");
+    }
+    md.push_str("- [Fitted NDFs](ndf.png)\n");
+    for (name, files) in figures {
+        let links: Vec<String> = files
+            .iter()
+            .map(|(what, file)| format!("[{what}]({file})"))
+            .collect();
+        let _ = writeln!(md, "- {name}: {}", links.join(", "));
     }
     md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use stfit_fit::{Loss, Model, ModelKind, Optimizer};
+
+    fn result(kind: ModelKind, gamma: Gamma) -> FitResult {
+        FitResult {
+            sample: "frosted".into(),
+            model: Model::single(kind, 0.201_234_5, gamma, 1.234_567),
+            loss: Loss::Sqrt,
+            optimizer: Optimizer::NelderMead,
+            rmse_sqrt_l: 0.004_123_4,
+            n_points: 300,
+            alpha_stderr: Some(0.001_234),
+            gamma_stderr: matches!(gamma, Gamma::Free(_)).then_some(0.081),
+            scale_stderr: None,
+            iterations: 42,
+            data: None,
+            stfit_version: "0".into(),
+            eta_fixed: true,
+            scale_fixed: false,
+            log_floor: None,
+            eta_stderr: None,
+            measured: Measured::L,
+        }
+    }
+
+    /// One header and one aligned row per fit; fixed gamma marked, undefined errors left out.
+    #[test]
+    fn table_has_a_header_and_aligned_rows() {
+        let fits = [
+            result(ModelKind::Ggx, Gamma::NotApplicable),
+            result(ModelKind::StudentT, Gamma::Fixed(3.0)),
+            result(ModelKind::StudentT, Gamma::Free(2.95)),
+        ];
+        let text = fits_table(&fits);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 4);
+        assert!(lines[0].starts_with("sample   model      alpha"));
+        assert!(lines[0].ends_with("rmse sqrt(L)    n"));
+        assert!(lines[1].contains("0.20123 ± 0.0012"));
+        assert!(lines[1].contains("1.2346 "));
+        assert!(!lines[1].contains('?'));
+        assert!(lines[1].contains("  -  "));
+        assert!(lines[2].contains("3.0000 (fixed)"));
+        assert!(lines[3].contains("2.9500 ± 0.081"));
+        assert!(
+            lines
+                .iter()
+                .skip(1)
+                .all(|l| l.ends_with("0.004123      300"))
+        );
+        let col = |l: &str| l.find("alpha").or_else(|| l.find("0.20123"));
+        assert!(lines.iter().all(|l| col(l) == col(lines[0])));
+    }
+
+    /// A sample name with line breaks and tabs stays on its row.
+    #[test]
+    fn control_characters_are_escaped() {
+        let mut fit = result(ModelKind::Ggx, Gamma::NotApplicable);
+        fit.sample = "a\nb\tc".into();
+        let text = fits_table(&[fit]);
+        assert_eq!(text.lines().count(), 2);
+        assert!(text.contains("a\\nb\\tc"));
+    }
 }

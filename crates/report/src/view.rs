@@ -1,9 +1,9 @@
 //! What the figures show, computed once per sample: measured points grouped by incidence
 //! angle, and for every fitted model its curves and residuals in the plotted scale.
 
+use stfit_core::Vec3;
 use stfit_core::ndf::{AnyNdf, Ndf};
-use stfit_core::{ParamError, Vec3};
-use stfit_fit::{FitResult, ModelKind, ModelParams, Sample};
+use stfit_fit::{FitResult, ModelKind, Sample};
 
 use crate::{ReportError, ReportOptions, YScale};
 
@@ -32,7 +32,7 @@ impl ModelSlot {
 
     /// The panel a fit belongs to.
     pub fn of(fit: &FitResult) -> Self {
-        match (fit.model, fit.gamma_fixed) {
+        match (fit.model.kind, fit.model.gamma.is_fixed()) {
             (ModelKind::Beckmann, _) => Self::Beckmann,
             (ModelKind::Ggx, _) => Self::Ggx,
             (ModelKind::StudentT, true) => Self::StudentTFixed,
@@ -115,56 +115,27 @@ impl YScale {
     }
 }
 
-/// The model a fit describes, or why it describes none.
-pub(crate) fn model_params(fit: &FitResult) -> Result<(ModelParams, AnyNdf), ReportError> {
-    let invalid = |reason: String| ReportError::InvalidFit {
-        sample: fit.sample.clone(),
-        model: ModelSlot::of(fit).title().to_string(),
-        reason,
-    };
-    let gamma = match (fit.model, fit.gamma) {
-        (ModelKind::StudentT, Some(g)) => g,
-        (ModelKind::StudentT, None) => return Err(invalid("Student-T without gamma".into())),
-        // Ignored by Beckmann and GGX.
-        (_, _) => f64::NAN,
-    };
-    if !(fit.scale.is_finite() && fit.scale > 0.0) {
-        return Err(invalid(format!(
-            "scale must be finite and > 0, got {}",
-            fit.scale
-        )));
-    }
-    let params = ModelParams {
-        kind: fit.model,
-        alpha: fit.alpha,
-        gamma,
-        scale: fit.scale,
-    };
-    let ndf = params.ndf().map_err(|e| invalid(e.to_string()))?;
-    Ok((params, ndf))
-}
-
 /// Groups a sample's points by incidence angle (ascending) and sorts each group by `theta_o`.
 fn angle_groups(sample: &Sample, y: YScale) -> Vec<AngleGroup> {
-    let mut points: Vec<_> = sample.points.iter().collect();
-    points.sort_by(|a, b| {
-        a.theta_i_deg
-            .total_cmp(&b.theta_i_deg)
-            .then(a.theta_o_deg.total_cmp(&b.theta_o_deg))
-    });
+    let mut points: Vec<_> = sample
+        .points
+        .iter()
+        .filter_map(|m| m.in_plane_angles().map(|(ti, to)| (ti, to, m)))
+        .collect();
+    points.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
     let mut groups: Vec<AngleGroup> = Vec::new();
-    for m in points {
-        if groups.last().is_none_or(|g| g.theta_i_deg != m.theta_i_deg) {
+    for (theta_i_deg, theta_o_deg, m) in points {
+        if groups.last().is_none_or(|g| g.theta_i_deg != theta_i_deg) {
             groups.push(AngleGroup {
-                theta_i_deg: m.theta_i_deg,
+                theta_i_deg,
                 points: Vec::new(),
                 l: Vec::new(),
                 fitted: Vec::new(),
             });
         }
         let g = groups.last_mut().expect("a group was just pushed");
-        g.points.push((m.theta_o_deg, y.apply(m.l)));
-        g.l.push(m.l);
+        g.points.push((theta_o_deg, y.apply(m.value)));
+        g.l.push(m.value);
         g.fitted.push(m.weight > 0.0);
     }
     groups
@@ -176,33 +147,40 @@ fn panel_view<'a>(
     (x0, x1): (f64, f64),
     opts: &ReportOptions,
 ) -> Result<PanelView<'a>, ReportError> {
-    let (params, ndf) = model_params(fit)?;
-    let invalid = |e: ParamError| ReportError::InvalidFit {
+    let invalid = |e: stfit_fit::FitError| ReportError::InvalidFit {
         sample: fit.sample.clone(),
         model: ModelSlot::of(fit).title().to_string(),
         reason: e.to_string(),
     };
+    let ndf = fit.model.ndf().map_err(invalid)?;
+    // Every curve and measured point of the panel in one batch: the model's walks (all
+    // orders) run once per incidence angle.
+    let mut angles = Vec::new();
+    for g in groups {
+        angles.extend((0..CURVE_POINTS).map(|k| {
+            let x = x0 + (x1 - x0) * k as f64 / (CURVE_POINTS - 1) as f64;
+            (g.theta_i_deg, x)
+        }));
+        angles.extend(g.points.iter().map(|&(x, _)| (g.theta_i_deg, x)));
+    }
+    let l = fit.model.predict(&angles).map_err(invalid)?;
     let y = opts.y_scale;
     let mut curves = Vec::with_capacity(groups.len());
     let mut residuals = Vec::with_capacity(groups.len());
     let (mut sum_sq, mut n) = (0.0, 0usize);
+    let mut at = 0;
     for g in groups {
         let curve = (0..CURVE_POINTS)
-            .map(|k| {
-                let x = x0 + (x1 - x0) * k as f64 / (CURVE_POINTS - 1) as f64;
-                let l = params.l_single(g.theta_i_deg, x, opts.eta, opts.masking)?;
-                Ok((x, y.apply(l)))
-            })
-            .collect::<Result<Vec<_>, ParamError>>()
-            .map_err(invalid)?;
+            .map(|k| (angles[at + k].1, y.apply(l[at + k])))
+            .collect();
+        at += CURVE_POINTS;
         let mut res = Vec::with_capacity(g.points.len());
         for ((&(x, y_meas), &l_meas), &fitted) in g.points.iter().zip(&g.l).zip(&g.fitted) {
-            let l = params
-                .l_single(g.theta_i_deg, x, opts.eta, opts.masking)
-                .map_err(invalid)?;
-            res.push((x, y_meas - y.apply(l)));
+            let l_model = l[at];
+            at += 1;
+            res.push((x, y_meas - y.apply(l_model)));
             if fitted {
-                let d = YScale::Sqrt.apply(l_meas) - YScale::Sqrt.apply(l);
+                let d = YScale::Sqrt.apply(l_meas) - YScale::Sqrt.apply(l_model);
                 sum_sq += d * d;
                 n += 1;
             }
@@ -239,11 +217,11 @@ impl<'a> SampleView<'a> {
             return Err(ReportError::EmptySample(sample.name.clone()));
         }
         let groups = angle_groups(sample, opts.y_scale);
-        let (x0, x1) = sample
-            .points
+        let (x0, x1) = groups
             .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), m| {
-                (lo.min(m.theta_o_deg), hi.max(m.theta_o_deg))
+            .flat_map(|g| g.points.iter().map(|p| p.0))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(x), hi.max(x))
             });
         let mut panels: [Option<PanelView<'a>>; 4] = Default::default();
         for (panel, fit) in panels.iter_mut().zip(fits) {

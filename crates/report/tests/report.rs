@@ -2,40 +2,36 @@
 
 use std::path::PathBuf;
 
-use stfit_core::bsdf::Masking;
-use stfit_fit::{Dataset, FitResult, Measurement, ModelKind, ModelParams, Sample};
+use stfit_fit::{
+    Dataset, FitResult, FitsFile, Gamma, Loss, Measurement, Model, ModelKind, Optimizer, Sample,
+};
 use stfit_report::{
     ModelSlot, ReportError, ReportOptions, YScale, clip_below, file_stem, fits_markdown, fmt_sig,
-    read_fits_json, render_report,
+    render_report,
 };
 
-const ETA: f64 = 1.51;
 const ANGLES: [f64; 4] = [0.0, 30.0, 60.0, 80.0];
 
-fn params(kind: ModelKind, alpha: f64, gamma: f64, scale: f64) -> ModelParams {
-    ModelParams {
-        kind,
-        alpha,
-        gamma,
-        scale,
-    }
+/// The single-scattering model (eta 1.51, separable masking); `gamma` used by Student-T only.
+fn params(kind: ModelKind, alpha: f64, gamma: f64, scale: f64) -> Model {
+    let gamma = if kind == ModelKind::StudentT {
+        Gamma::Free(gamma)
+    } else {
+        Gamma::NotApplicable
+    };
+    Model::single(kind, alpha, gamma, scale)
 }
 
 /// A sample made with the single-scattering model, 4 x 75 points over the Walter range of
 /// `theta_o`, with a deterministic small wobble standing in for measurement noise.
-fn synth_sample(name: &str, truth: ModelParams, wobble: f64) -> Sample {
+fn synth_sample(name: &str, truth: Model, wobble: f64) -> Sample {
     let mut points = Vec::new();
     for (a, &ti) in ANGLES.iter().enumerate() {
         for k in 0..75 {
             let to = 105.82 + (253.89 - 105.82) * k as f64 / 74.0;
-            let l = truth.l_single(ti, to, ETA, Masking::Separable).unwrap();
+            let l = truth.predict(&[(ti, to)]).unwrap()[0];
             let noise = 1.0 + wobble * ((k * 7 + a * 3) as f64).sin();
-            points.push(Measurement {
-                theta_i_deg: ti,
-                theta_o_deg: to,
-                l: l * noise,
-                weight: 1.0,
-            });
+            points.push(Measurement::in_plane(ti, to, l * noise, 1.0));
         }
     }
     Sample {
@@ -63,34 +59,40 @@ fn dataset() -> Dataset {
 }
 
 /// rmse of sqrt(L) of a model over a sample, computed here independently of the report.
-fn rmse(sample: &Sample, p: &ModelParams) -> f64 {
+fn rmse(sample: &Sample, p: &Model) -> f64 {
     let ss: f64 = sample
         .points
         .iter()
         .map(|m| {
-            let l = p
-                .l_single(m.theta_i_deg, m.theta_o_deg, ETA, Masking::Separable)
-                .unwrap();
-            (m.l.sqrt() - l.sqrt()).powi(2)
+            let l = p.predict_points(std::slice::from_ref(m)).unwrap()[0];
+            (m.value.sqrt() - l.sqrt()).powi(2)
         })
         .sum();
     (ss / sample.points.len() as f64).sqrt()
 }
 
-fn fit(sample: &Sample, p: ModelParams, gamma_fixed: bool) -> FitResult {
+fn fit(sample: &Sample, mut p: Model, gamma_fixed: bool) -> FitResult {
+    if let (true, Some(g)) = (gamma_fixed, p.gamma.value()) {
+        p.gamma = Gamma::Fixed(g);
+    }
     FitResult {
         sample: sample.name.clone(),
-        model: p.kind,
-        alpha: p.alpha,
-        gamma: (p.kind == ModelKind::StudentT).then_some(p.gamma),
-        gamma_fixed,
-        scale: p.scale,
+        model: p,
+        loss: Loss::Sqrt,
+        optimizer: Optimizer::NelderMead,
         rmse_sqrt_l: rmse(sample, &p),
         n_points: sample.points.len(),
-        alpha_stderr: 0.001,
-        gamma_stderr: (p.kind == ModelKind::StudentT && !gamma_fixed).then_some(0.05),
-        scale_stderr: 0.004,
+        alpha_stderr: Some(0.001),
+        gamma_stderr: p.gamma.is_free().then_some(0.05),
+        scale_stderr: Some(0.004),
         iterations: 42,
+        data: None,
+        stfit_version: "test".into(),
+        eta_fixed: true,
+        scale_fixed: false,
+        log_floor: None,
+        eta_stderr: None,
+        measured: sample.measured(),
     }
 }
 
@@ -179,10 +181,10 @@ fn svgs_contain_panel_titles_and_legends() {
     let ggx = &all[1];
     for needle in [
         "frosted-like: measured transmission",
-        &format!("α = {}", fmt_sig(ggx.alpha, 4)),
+        &format!("α = {}", fmt_sig(ggx.model.alpha, 4)),
         "γ = 3 (fixed)",
         "γ = 2.600",
-        &format!("scale = {}", fmt_sig(ggx.scale, 4)),
+        &format!("scale = {}", fmt_sig(ggx.model.scale, 4)),
         &format!("rmse √L = {}", fmt_sig(ggx.rmse_sqrt_l, 3)),
         "measured",
         "model",
@@ -257,8 +259,8 @@ fn pngs_decode_and_are_not_blank() {
 fn report_from_stored_fits_equals_report_from_memory() {
     let data = dataset();
     let all = fits(&data);
-    let json = serde_json::to_string_pretty(&stfit_report::FitsFile { fits: all.clone() }).unwrap();
-    let stored = read_fits_json(&json).unwrap();
+    let json = FitsFile::new(all.clone()).to_json();
+    let stored = FitsFile::from_json("test", &json).unwrap().fits;
     assert_eq!(stored, all);
     let opts = ReportOptions::default();
     let a = render_report(&data, &all, &opts).unwrap();
@@ -284,7 +286,6 @@ fn linear_scale_changes_the_axis() {
     let all = fits(&data);
     let opts = ReportOptions {
         y_scale: YScale::Linear,
-        ..ReportOptions::default()
     };
     let report = render_report(&data, &all, &opts).unwrap();
     let fig = svg(&report, "frosted-like-fits.svg");
@@ -302,7 +303,7 @@ fn missing_fits_leave_panels_with_data_only() {
     let data = dataset();
     let some: Vec<FitResult> = fits(&data)
         .into_iter()
-        .filter(|f| f.model == ModelKind::Ggx)
+        .filter(|f| f.model.kind == ModelKind::Ggx)
         .collect();
     let report = render_report(&data, &some, &ReportOptions::default()).unwrap();
     let fig = svg(&report, "frosted-like-fits.svg");
@@ -330,16 +331,20 @@ fn a_stored_rmse_the_data_does_not_reproduce_is_reported() {
     let data = dataset();
     let mut all = fits(&data);
     all[0].rmse_sqrt_l *= 1.5;
-    // A different eta changes every model value, so every stored rmse is off.
     let report = render_report(&data, &all, &ReportOptions::default()).unwrap();
     assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
     assert!(report.warnings[0].contains("frosted-like") && report.warnings[0].contains("Beckmann"));
-    let other_eta = ReportOptions {
-        eta: 1.4,
-        ..ReportOptions::default()
-    };
-    let report = render_report(&data, &fits(&data), &other_eta).unwrap();
+    // Each fit is drawn with its own model: fits that claim another eta than the one their
+    // rmse was computed with do not reproduce it.
+    let mut other_eta = fits(&data);
+    other_eta.iter_mut().for_each(|f| f.model.eta = 1.4);
+    let report = render_report(&data, &other_eta, &ReportOptions::default()).unwrap();
     assert_eq!(report.warnings.len(), 8);
+    assert!(
+        report.warnings[0].contains("eta 1.4"),
+        "{}",
+        report.warnings[0]
+    );
 }
 
 #[test]
@@ -354,7 +359,7 @@ fn fits_markdown_lists_every_fit_and_marks_the_best() {
         .collect();
     assert_eq!(rows.len(), all.len());
     for (row, f) in rows.iter().zip(&all) {
-        assert!(row.contains(&fmt_sig(f.alpha, 4)), "{row}");
+        assert!(row.contains(&fmt_sig(f.model.alpha, 4)), "{row}");
         assert!(
             row.contains(&format!("| {} |", ModelSlot::of(f).title())),
             "{row}"
@@ -375,9 +380,16 @@ fn fits_markdown_lists_every_fit_and_marks_the_best() {
     let direct = fits_markdown(
         &[("x", all[..4].iter().collect())],
         &[],
+        true,
         &ReportOptions::default(),
     );
-    assert!(direct.contains("| x | Student-T, γ fixed | 0.2500 ± 0.0010 | 3 (fixed) |"));
+    assert!(
+        direct.contains(
+            "| x | Student-T, γ fixed | single scattering, separable masking | \
+             0.2500 ± 0.0010 | 3.000 (fixed) | 1.510 (fixed) |"
+        ),
+        "{direct}"
+    );
 }
 
 #[test]
@@ -406,11 +418,12 @@ fn bad_fits_are_typed_errors() {
     ));
 
     for bad in [
-        |f: &mut FitResult| f.alpha = -0.1,
-        |f: &mut FitResult| f.alpha = f64::NAN,
-        |f: &mut FitResult| f.scale = 0.0,
-        |f: &mut FitResult| f.gamma = Some(1.2),
-        |f: &mut FitResult| f.gamma = None,
+        |f: &mut FitResult| f.model.alpha = -0.1,
+        |f: &mut FitResult| f.model.alpha = f64::NAN,
+        |f: &mut FitResult| f.model.scale = 0.0,
+        |f: &mut FitResult| f.model.gamma = Gamma::Free(1.2),
+        |f: &mut FitResult| f.model.gamma = Gamma::NotApplicable,
+        |f: &mut FitResult| f.model.eta = 1.0,
     ] {
         let mut f = fits(&data);
         bad(&mut f[3]);
@@ -428,12 +441,6 @@ fn bad_fits_are_typed_errors() {
         render_report(&empty, &[], &opts),
         Err(ReportError::NoSamples)
     ));
-    let bad_eta = ReportOptions { eta: 1.0, ..opts };
-    assert!(matches!(
-        render_report(&data, &[], &bad_eta),
-        Err(ReportError::Options(_))
-    ));
-
     let clash = Dataset {
         source: "x".into(),
         samples: vec![
@@ -450,15 +457,6 @@ fn bad_fits_are_typed_errors() {
     assert!(matches!(
         render_report(&clash, &[], &opts),
         Err(ReportError::FileNameClash(..))
-    ));
-
-    assert!(matches!(
-        read_fits_json("{\"fit\": []}"),
-        Err(ReportError::Json(_))
-    ));
-    assert!(matches!(
-        read_fits_json("not json"),
-        Err(ReportError::Json(_))
     ));
 }
 
@@ -532,7 +530,7 @@ fn an_unnamed_sample_gets_a_file_name_and_a_title() {
     // The exact model has zero residual everywhere.
     assert!(
         svg(&report, "fits.md")
-            .contains("| (unnamed) | GGX | 0.3000 ± 0.0010 | – | 1.000 ± 0.0040 | **0** |")
+            .contains("| (unnamed) | GGX | single scattering, separable masking | 0.3000 ± 0.0010 | - | 1.510 (fixed) | 1.000 ± 0.0040 | **0** |")
     );
 }
 
@@ -542,7 +540,7 @@ fn points_of_weight_zero_are_drawn_hollow_and_left_out_of_the_rmse() {
     let mut sample = synth_sample("weighted", truth, 0.0);
     // Stray light on a few points, excluded from the fit by weight 0.
     for m in sample.points.iter_mut().step_by(10) {
-        m.l += 0.05;
+        m.value += 0.05;
         m.weight = 0.0;
     }
     let fitted = sample.points.iter().filter(|m| m.weight > 0.0).count();
@@ -580,15 +578,18 @@ fn stored_fits_round_trip_every_float_exactly() {
                 .wrapping_add(1442695040888963407);
             let v = f64::from_bits((x >> 12) | 0x3FF0_0000_0000_0000) - 1.0;
             FitResult {
-                alpha: v,
+                model: Model {
+                    alpha: v,
+                    scale: v * 1e4,
+                    ..template.model
+                },
                 rmse_sqrt_l: v * 1e-3,
-                scale: v * 1e4,
                 ..template.clone()
             }
         })
         .collect();
-    let json = serde_json::to_string(&stfit_report::FitsFile { fits: many.clone() }).unwrap();
-    assert_eq!(read_fits_json(&json).unwrap(), many);
+    let json = FitsFile::new(many.clone()).to_json();
+    assert_eq!(FitsFile::from_json("test", &json).unwrap().fits, many);
 }
 
 #[test]
@@ -605,4 +606,80 @@ fn fits_of_the_fitting_engine_are_reproduced_without_warnings() {
     assert!(report.warnings.is_empty(), "{:?}", report.warnings);
     let fig = svg(&report, "ground_glass-fits.svg");
     assert_eq!(fig.matches("not fitted").count(), 0);
+}
+
+/// A general sample (reflection and transmission, light from both sides, out of plane) gets
+/// its plane-of-incidence and polar-residual figures, SVG and PNG, no overview, and tables
+/// that name what was measured (the BSDF) and the fitted eta; the fitted models reproduce
+/// their stored rmse.
+#[test]
+fn general_samples_get_plane_and_polar_figures() {
+    let truth = Model {
+        eta: 1.45,
+        ..params(ModelKind::Ggx, 0.3, 0.0, 1.2)
+    };
+    let sample = stfit_fit::SynthSpec {
+        model: truth,
+        grid: stfit_fit::Grid::spherical_default(),
+        noise: 0.02,
+        seed: 3,
+        name: "general glass".into(),
+    }
+    .sample()
+    .unwrap();
+    let opts = stfit_fit::FitOptions {
+        eta: stfit_fit::Parameter::Free,
+        ..Default::default()
+    };
+    let fits = stfit_fit::fit_all(&sample, &opts).unwrap();
+    assert!(fits.iter().all(|f| f.measured == stfit_fit::Measured::Bsdf));
+    let data = Dataset {
+        source: PathBuf::from("general"),
+        samples: vec![sample],
+    };
+    let report = render_report(&data, &fits, &ReportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let mut names: Vec<&str> = report.files.iter().map(|f| f.name.as_str()).collect();
+    names.sort_unstable();
+    assert_eq!(
+        names,
+        [
+            "fits.md",
+            "general_glass-plane.png",
+            "general_glass-plane.svg",
+            "general_glass-polar.png",
+            "general_glass-polar.svg",
+            "ndf.png",
+            "ndf.svg",
+        ]
+    );
+    let plane = svg(&report, "general_glass-plane.svg");
+    for text in [
+        "GGX",
+        "Student-T, γ free",
+        "rmse √BSDF",
+        "η = 1.4",
+        "θi = 150°",
+    ] {
+        assert!(plane.contains(text), "plane figure lacks {text:?}");
+    }
+    let polar = svg(&report, "general_glass-polar.svg");
+    assert!(polar.contains("residuals"), "polar figure has no title");
+    for name in ["general_glass-plane.png", "general_glass-polar.png"] {
+        let (w, h, _) = png_size(&report.file(name).unwrap().contents);
+        assert!(w >= 800 && h >= 600, "{name}: {w} x {h}");
+    }
+    let md = String::from_utf8(report.file("fits.md").unwrap().contents.clone()).unwrap();
+    assert!(md.contains("| rmse sqrt(BSDF) |"), "{md}");
+    assert!(md.contains("`bsdf = scale * f`"), "{md}");
+    let ggx_row = md
+        .lines()
+        .find(|l| l.starts_with("| general glass | GGX |"))
+        .expect("a GGX row");
+    let eta_cell = ggx_row.split(" | ").nth(5).unwrap();
+    let eta: f64 = eta_cell.split(" ± ").next().unwrap().parse().unwrap();
+    assert!(
+        (eta - 1.45).abs() < 0.005 && eta_cell.contains(" ± "),
+        "{ggx_row}"
+    );
 }

@@ -2,13 +2,13 @@
 //! quadrature (per NDF, light from outside and inside), the cosine-weighted average of one
 //! line, and the random walks of one all-orders cell (orders >= 2, 10^5 walks).
 //!
-//! Whole tables are timed with the command line (see /work/notes/tables-readme.md).
+//! Whole tables are timed with the command line (README.md, "Energy tables").
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use stfit_core::Vec3;
 use stfit_core::ndf::{Beckmann, Ggx, StudentT};
-use stfit_core::walk::{DielectricFacet, Microsurface, ScatteringOrders};
+use stfit_core::walk::{DielectricFacet, Estimator, Microsurface, ScatteringOrders};
 use stfit_tables::single::{
     Interface, Quadrature, TableMasking, TableNdf, average, single_scattering,
 };

@@ -18,7 +18,7 @@ use std::fmt;
 use std::str::FromStr;
 use stfit_core::Vec3;
 use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
-use stfit_core::walk::{DielectricFacet, Facet, Microsurface, ScatteringOrders};
+use stfit_core::walk::{DielectricFacet, Estimator, Facet, Microsurface, ScatteringOrders};
 
 /// A Monte Carlo estimate and its standard error.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]

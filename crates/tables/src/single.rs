@@ -428,9 +428,15 @@ pub fn single_scattering<N: TableNdf>(
     for piece in cuts.windows(2) {
         // The integrand is smooth and even about phi = 0 and pi: no crowding there.
         let crowd = (piece[0] > 0.0, piece[1] < PI);
-        panel(rule.phi_rule(piece[1] - piece[0]), piece[0], piece[1], crowd, |phi, w| {
-            sum.add_scaled(cell.azimuth(phi, tol), w);
-        });
+        panel(
+            rule.phi_rule(piece[1] - piece[0]),
+            piece[0],
+            piece[1],
+            crowd,
+            |phi, w| {
+                sum.add_scaled(cell.azimuth(phi, tol), w);
+            },
+        );
     }
     let scale = 2.0 / mu;
     Albedo {

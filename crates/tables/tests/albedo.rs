@@ -4,7 +4,9 @@
 
 use stfit_core::Vec3;
 use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
-use stfit_core::walk::{ConductorFacet, DielectricFacet, Facet, Microsurface, ScatteringOrders};
+use stfit_core::walk::{
+    ConductorFacet, DielectricFacet, Estimator, Facet, Microsurface, ScatteringOrders,
+};
 use stfit_tables::single::{
     Albedo, Interface, Quadrature, TableMasking, TableNdf, average, single_scattering,
 };

@@ -256,7 +256,11 @@ fn the_files_hold_the_same_numbers_in_the_documented_layouts() {
     for (i, rec) in data.chunks(record).enumerate() {
         assert_eq!(rec[0], u8::from(i >= 8), "side of record {i}");
         // surface |S10, ndf |S9, masking |S15: NUL-padded.
-        assert_eq!(&rec[1..35], b"dielectricstudent-tcorrelated\0\0\0\0\0", "text of record {i}");
+        assert_eq!(
+            &rec[1..35],
+            b"dielectricstudent-tcorrelated\0\0\0\0\0",
+            "text of record {i}"
+        );
         let field = |k: usize| f64::from_le_bytes(rec[35 + 8 * k..43 + 8 * k].try_into().unwrap());
         assert_eq!(field(4), e_ss[i], "E_ss of record {i}");
         assert_eq!(

@@ -1,6 +1,6 @@
 //! The Lambertian (ideal diffuse) reflector.
 
-use super::{Bsdf, BsdfSample};
+use super::{AnalyticBsdf, Bsdf, BsdfSample};
 use crate::error::{ParamError, finite};
 use crate::math::{Vec3, safe_sqrt};
 use rand::{Rng, RngExt};
@@ -33,14 +33,25 @@ impl Lambertian {
     }
 }
 
-impl Bsdf for Lambertian {
+impl AnalyticBsdf for Lambertian {
     /// `R |wo.z| / pi` when `wo` is on the side of `wi`, else 0.
-    fn eval<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, _rng: &mut R) -> f64 {
+    fn f_cos(&self, wi: Vec3, wo: Vec3) -> f64 {
+        self.reflectance * self.density(wi, wo)
+    }
+
+    /// `|wo.z| / pi` on the side of `wi`.
+    fn density(&self, wi: Vec3, wo: Vec3) -> f64 {
         if wi.z * wo.z > 0.0 {
-            self.reflectance * wo.z.abs() * FRAC_1_PI
+            wo.z.abs() * FRAC_1_PI
         } else {
             0.0
         }
+    }
+}
+
+impl Bsdf for Lambertian {
+    fn eval<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, _rng: &mut R) -> f64 {
+        self.f_cos(wi, wo)
     }
 
     /// Cosine-weighted hemisphere on the side of `wi` (Malley's method); weight `R`. `None`
@@ -66,10 +77,6 @@ impl Bsdf for Lambertian {
     }
 
     fn pdf<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, _rng: &mut R) -> f64 {
-        if wi.z * wo.z > 0.0 {
-            wo.z.abs() * FRAC_1_PI
-        } else {
-            0.0
-        }
+        self.density(wi, wo)
     }
 }

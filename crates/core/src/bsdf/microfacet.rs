@@ -1,5 +1,7 @@
-//! Pieces shared by the microfacet BSDFs: reflection and refraction about a facet, the side
-//! convention for directions below the surface, and Smith masking-shadowing.
+//! The pieces every microfacet model shares, each written once: reflection and refraction about
+//! a facet, Walter et al.'s (generalised) half vector and its Jacobian, and Smith
+//! masking-shadowing. The rough BSDFs, the random walks' facets and the fitting engine all build
+//! on them.
 //!
 //! Smith terms are written with `a(w) = 1 + Lambda(w') = sigma(w') / |w.z|`, where `w'` is `w`
 //! flipped to the upper hemisphere ([`upper`]) and `sigma` the projected area: a direction
@@ -8,36 +10,103 @@
 
 use crate::math::Vec3;
 use crate::ndf::Ndf;
+use serde::{Deserialize, Serialize};
 
 /// How the masking-shadowing term G combines the two directions.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Masking {
     /// `G1(wi) G1(wo)` (Walter et al. 2007; what the published fits used).
     #[default]
     Separable,
     /// Height-correlated Smith: `1/(1 + Lambda_i + Lambda_o)` for reflection and
-    /// `B(1 + Lambda_i, 1 + Lambda_o)` for transmission (Heitz 2014, section 5).
+    /// `B(1 + Lambda_i, 1 + Lambda_o)` (the Beta function) for transmission (Heitz 2014,
+    /// section 5). The random walks' order-1 term is exactly this.
     Correlated,
 }
 
 impl Masking {
+    /// The name used on the command line and in files: `separable` or `correlated`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Separable => "separable",
+            Self::Correlated => "correlated",
+        }
+    }
+
+    /// The Smith term of one direction with `a = 1 + Lambda(w')`, with what this masking
+    /// needs precomputed (the log-gamma of the Beta function for [`Masking::Correlated`]).
+    /// Callers that evaluate many pairs sharing directions compute it once per direction.
+    #[inline]
+    pub fn term(self, a: f64) -> SmithTerm {
+        let ln_gamma = match self {
+            Self::Separable => 0.0,
+            Self::Correlated if a.is_finite() => statrs::function::gamma::ln_gamma(a),
+            Self::Correlated => f64::INFINITY,
+        };
+        SmithTerm { a, ln_gamma }
+    }
+
+    /// `G` of a reflected (`reflect`) or transmitted pair from the terms of its two directions.
+    #[inline]
+    pub fn g(self, reflect: bool, i: SmithTerm, o: SmithTerm) -> f64 {
+        match (self, reflect) {
+            (Self::Separable, _) => 1.0 / (i.a * o.a),
+            (Self::Correlated, true) => 1.0 / (i.a + o.a - 1.0),
+            (Self::Correlated, false) => beta_from_terms(i, o),
+        }
+    }
+
     /// `G` for reflection from `a_i = 1 + Lambda(wi')` and `a_o = 1 + Lambda(wo')`.
     #[inline]
     pub fn g_reflection(self, a_i: f64, a_o: f64) -> f64 {
-        match self {
-            Self::Separable => 1.0 / (a_i * a_o),
-            Self::Correlated => 1.0 / (a_i + a_o - 1.0),
-        }
+        self.g(true, self.term(a_i), self.term(a_o))
     }
 
     /// `G` for transmission from `a_i = 1 + Lambda(wi')` and `a_o = 1 + Lambda(wo')`.
     #[inline]
     pub fn g_transmission(self, a_i: f64, a_o: f64) -> f64 {
-        match self {
-            Self::Separable => 1.0 / (a_i * a_o),
-            Self::Correlated => beta_fn(a_i, a_o),
+        self.g(false, self.term(a_i), self.term(a_o))
+    }
+}
+
+impl std::str::FromStr for Masking {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "separable" => Ok(Self::Separable),
+            "correlated" => Ok(Self::Correlated),
+            _ => Err(format!(
+                "unknown masking '{s}' (expected separable or correlated)"
+            )),
         }
     }
+}
+
+/// The Smith term of one direction: `a = 1 + Lambda(w')` and, for height-correlated masking,
+/// `ln Gamma(a)` (see [`Masking::term`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SmithTerm {
+    a: f64,
+    ln_gamma: f64,
+}
+
+impl SmithTerm {
+    /// `1 + Lambda(w')`.
+    pub fn a(&self) -> f64 {
+        self.a
+    }
+}
+
+/// The Beta function `B(a_i, a_o) = Gamma(a_i) Gamma(a_o) / Gamma(a_i + a_o)` from the terms'
+/// log-gammas (arguments >= 1); zero when either is infinite (a grazing direction).
+#[inline]
+fn beta_from_terms(i: SmithTerm, o: SmithTerm) -> f64 {
+    if !i.a.is_finite() || !o.a.is_finite() {
+        return 0.0;
+    }
+    (i.ln_gamma + o.ln_gamma - statrs::function::gamma::ln_gamma(i.a + o.a)).exp()
 }
 
 /// `w` flipped to the upper hemisphere (`-w` when `w.z < 0`): the direction from which a
@@ -54,33 +123,179 @@ pub(crate) fn projected_area<N: Ndf>(ndf: &N, w: Vec3) -> f64 {
     ndf.sigma(upper(w))
 }
 
-/// Mirror reflection of `w` about the unit normal `n` (either orientation).
+/// Mirror reflection of `w` about the unit normal `n` (either orientation): `2 (w.n) n - w`.
 #[inline]
 pub fn reflect(w: Vec3, n: Vec3) -> Vec3 {
     n * (2.0 * w.dot(&n)) - w
 }
 
-/// Refraction of `w` through the interface with unit normal `n` on the side of `w`
-/// (`w.n >= 0`) and relative index `eta = n_transmitted / n_incident`; `None` under total
-/// internal reflection. The result points away from the interface on the other side.
+/// Refraction of the unit `w` through an interface with unit normal `n`, index `eta` on the
+/// side `-n` points to and 1 on the side of `n` (a relative index; `eta < 1` is allowed). `w`
+/// may be on either side. Returns the unit refracted direction, pointing away from the
+/// interface on the other side, or `None` under total internal reflection.
 #[inline]
 pub fn refract(w: Vec3, n: Vec3, eta: f64) -> Option<Vec3> {
     let cos_i = w.dot(&n);
-    let sin2_t = (1.0 - cos_i * cos_i).max(0.0) / (eta * eta);
+    // eta_t: index of the transmission side over that of the incident side.
+    let (eta_t, n, cos_i) = if cos_i >= 0.0 {
+        (eta, n, cos_i)
+    } else {
+        (1.0 / eta, -n, -cos_i)
+    };
+    let sin2_t = (1.0 - cos_i * cos_i).max(0.0) / (eta_t * eta_t);
     if sin2_t >= 1.0 {
         return None;
     }
     let cos_t = (1.0 - sin2_t).sqrt();
-    Some(-w / eta + n * (cos_i / eta - cos_t))
+    Some((-w / eta_t + n * (cos_i / eta_t - cos_t)).normalize())
 }
 
-/// The Beta function `B(a, b) = Gamma(a) Gamma(b) / Gamma(a + b)` for `a, b >= 1`; zero when
-/// either argument is infinite (a grazing direction).
-#[inline]
-fn beta_fn(a: f64, b: f64) -> f64 {
-    use statrs::function::gamma::ln_gamma;
-    if !a.is_finite() || !b.is_finite() {
-        return 0.0;
+/// Walter et al. 2007's half vector of a pair of directions, with the cosines and indices of
+/// refraction that the microfacet BSDF and its sampling density need.
+///
+/// For reflection `h = normalize(wi + wo)`; for refraction the generalised half vector
+/// `h = -normalize(n_i wi + n_o wo)` (eq. 16), with `n_i`, `n_o` the indices on the sides of
+/// `wi` and `wo`. Either way the facet of normal `h` sends light from `wi` to `wo`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HalfVector {
+    /// The unit half vector (orientation chosen by the constructor).
+    pub h: Vec3,
+    /// `wi.h` and `wo.h`.
+    pub cos_ih: f64,
+    pub cos_oh: f64,
+    /// Indices of refraction on the sides of `wi` and `wo`.
+    pub n_i: f64,
+    pub n_o: f64,
+    /// True for reflection (both directions on one side of the interface).
+    pub reflect: bool,
+}
+
+impl HalfVector {
+    /// The half vector of `wi` and `wo` at a macro-surface with index 1 above (z > 0) and `eta`
+    /// below: reflection when both are on one side, transmission otherwise; `h` flipped to
+    /// `h.z > 0`. `None` for grazing directions and when no facet connects the pair (either
+    /// direction on the back of `h`).
+    #[inline]
+    pub fn new(wi: Vec3, wo: Vec3, eta: f64) -> Option<Self> {
+        let (ci, co) = (wi.z, wo.z);
+        if ci == 0.0 || co == 0.0 {
+            return None;
+        }
+        let index = |c: f64| if c > 0.0 { 1.0 } else { eta };
+        let hv = Self::of_pair(wi, wo, index(ci), index(co), ci * co > 0.0, Vec3::z())?;
+        // Each direction must lie on the same side of the facet as of the macro-surface.
+        if hv.cos_ih * ci <= 0.0 || hv.cos_oh * co <= 0.0 {
+            return None;
+        }
+        Some(hv)
     }
-    (ln_gamma(a) + ln_gamma(b) - ln_gamma(a + b)).exp()
+
+    /// The half vector for given indices and lobe, oriented so that `h.toward > 0` (`toward`
+    /// not perpendicular to it); `None` for a zero or non-finite vector.
+    #[inline]
+    pub fn of_pair(
+        wi: Vec3,
+        wo: Vec3,
+        n_i: f64,
+        n_o: f64,
+        reflect: bool,
+        toward: Vec3,
+    ) -> Option<Self> {
+        let v = if reflect {
+            wi + wo
+        } else {
+            -(wi * n_i + wo * n_o)
+        };
+        let len = v.norm();
+        if len == 0.0 || !len.is_finite() {
+            return None;
+        }
+        let h = if v.dot(&toward) < 0.0 {
+            -v / len
+        } else {
+            v / len
+        };
+        Some(Self {
+            h,
+            cos_ih: wi.dot(&h),
+            cos_oh: wo.dot(&h),
+            n_i,
+            n_o,
+            reflect,
+        })
+    }
+
+    /// `|d omega_h / d omega_o|`, the Jacobian of the half-vector map: `1 / (4 |wo.h|)` for
+    /// reflection (Walter et al. 2007, eq. 14) and `n_o^2 |wo.h| / (n_i wi.h + n_o wo.h)^2` for
+    /// refraction (eq. 17).
+    #[inline]
+    pub fn jacobian(&self) -> f64 {
+        if self.reflect {
+            0.25 / self.cos_oh.abs()
+        } else {
+            let denom = self.n_i * self.cos_ih + self.n_o * self.cos_oh;
+            self.n_o * self.n_o * self.cos_oh.abs() / (denom * denom)
+        }
+    }
+
+    /// The Fresnel weight of the lobe: `F` for reflection, `1 - F` for refraction, given the
+    /// reflectance `f = F(wi.h)`.
+    #[inline]
+    pub fn lobe_weight(&self, f: f64) -> f64 {
+        if self.reflect { f } else { 1.0 - f }
+    }
+
+    /// Walter et al. 2007's microfacet BSDF (eqs. 20 and 21) times `|wo.z|`, without its `G D`:
+    /// `f(wi, wo) |wo.z| = walter_factor * G * D(h)` with
+    /// `walter_factor = |wi.h| |d omega_h / d omega_o| (F or 1 - F) / |wi.z|`, which is
+    /// `F / (4 |wi.z|)` for reflection and
+    /// `|wi.h| |wo.h| n_o^2 (1 - F) / (|wi.z| (n_i wi.h + n_o wo.h)^2)` for refraction.
+    #[inline]
+    pub fn walter_factor(&self, wi_z: f64, f: f64) -> f64 {
+        self.cos_ih.abs() * self.jacobian() * self.lobe_weight(f) / wi_z.abs()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refraction_obeys_snell_and_round_trips() {
+        let m = Vec3::new(0.3, -0.2, 0.9).normalize();
+        let wi = Vec3::new(-0.5, 0.1, 0.7).normalize();
+        for eta in [1.51, 1.0 / 1.51] {
+            let Some(wt) = refract(wi, m, eta) else {
+                continue;
+            };
+            let (si, st) = (wi.cross(&m).norm(), wt.cross(&m).norm());
+            assert!((si - eta * st).abs() < 1e-12);
+            assert!(wt.dot(&m) < 0.0);
+            let back = refract(wt, m, eta).unwrap();
+            assert!((back - wi).norm() < 1e-12);
+        }
+    }
+
+    /// The half vector of a refracted pair is the facet normal that refracts `wi` into `wo`.
+    #[test]
+    fn refraction_half_vector_is_the_refracting_facet() {
+        let m = Vec3::new(0.2, 0.1, 0.95).normalize();
+        let wi = Vec3::new(-0.4, 0.3, 0.8).normalize();
+        let wo = refract(wi, m, 1.5).unwrap();
+        let hv = HalfVector::new(wi, wo, 1.5).unwrap();
+        assert!((hv.h - m).norm() < 1e-12, "{:?} vs {m:?}", hv.h);
+        assert!(!hv.reflect);
+    }
+
+    /// The Beta function of the correlated transmission masking: `B(1, b) = 1 / b`, and
+    /// `B(2, 3) = 1/12`; zero for a grazing direction.
+    #[test]
+    fn correlated_transmission_is_the_beta_function() {
+        let m = Masking::Correlated;
+        assert!((m.g_transmission(1.0, 4.0) - 0.25).abs() < 1e-13);
+        assert!((m.g_transmission(2.0, 3.0) - 1.0 / 12.0).abs() < 1e-13);
+        assert_eq!(m.g_transmission(f64::INFINITY, 2.0), 0.0);
+        assert!((m.g_reflection(2.0, 3.0) - 0.25).abs() < 1e-15);
+        assert!((Masking::Separable.g_transmission(2.0, 3.0) - 1.0 / 6.0).abs() < 1e-15);
+    }
 }

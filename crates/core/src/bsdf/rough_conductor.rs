@@ -1,8 +1,8 @@
 //! A rough conductor: microfacet reflection with conductor Fresnel, generic over the NDF.
 
-use super::microfacet::{Masking, projected_area, reflect, upper};
+use super::microfacet::{HalfVector, Masking, projected_area, reflect, upper};
 use super::smooth_conductor::check_conductor_index;
-use super::{Bsdf, BsdfSample, fresnel_conductor};
+use super::{AnalyticBsdf, Bsdf, BsdfSample, fresnel_conductor};
 use crate::error::ParamError;
 use crate::math::Vec3;
 use crate::ndf::Ndf;
@@ -46,48 +46,54 @@ impl<N: Ndf> RoughConductor<N> {
         self.masking
     }
 
-    /// The half vector `normalize(wi + wo)` flipped to `h.z > 0`, or `None` when the pair is
-    /// not a reflection on one side, is grazing, or no facet connects it.
+    /// The reflection half vector of a pair on one side, or `None` (see [`HalfVector::new`]).
     #[inline]
-    fn half_vector(wi: Vec3, wo: Vec3) -> Option<Vec3> {
+    fn half_vector(wi: Vec3, wo: Vec3) -> Option<HalfVector> {
         if wi.z * wo.z <= 0.0 {
             return None;
         }
-        let h = upper(wi + wo);
-        let len = h.norm();
-        if len == 0.0 || len.is_nan() {
-            return None;
-        }
-        let h = h / len;
-        if wi.dot(&h) * wi.z <= 0.0 || wo.dot(&h) * wo.z <= 0.0 {
-            return None;
-        }
-        Some(h)
+        // Reflection: the relative index plays no role in the half vector.
+        HalfVector::new(wi, wo, 2.0)
     }
 
     /// `D_wi(h) / (4 |wi.h|) = D(h) / (4 sigma_i)`, the density of the reflected direction.
     #[inline]
-    fn pdf_half(&self, h: Vec3, sigma_i: f64) -> f64 {
+    fn density_of(&self, hv: &HalfVector, sigma_i: f64) -> f64 {
         if sigma_i <= 0.0 || sigma_i.is_nan() {
             return 0.0;
         }
-        self.ndf.d(h) / (4.0 * sigma_i)
+        hv.cos_ih.abs() * self.ndf.d(hv.h) / sigma_i * hv.jacobian()
     }
 }
 
-impl<N: Ndf> Bsdf for RoughConductor<N> {
-    fn eval<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, _rng: &mut R) -> f64 {
-        let Some(h) = Self::half_vector(wi, wo) else {
+impl<N: Ndf> AnalyticBsdf for RoughConductor<N> {
+    /// `F G D / (4 |wi.z| |wo.z|)` times `|wo.z|`, with `h = normalize(wi + wo)`.
+    fn f_cos(&self, wi: Vec3, wo: Vec3) -> f64 {
+        let Some(hv) = Self::half_vector(wi, wo) else {
             return 0.0;
         };
-        let d = self.ndf.d(h);
+        let d = self.ndf.d(hv.h);
         if d == 0.0 {
             return 0.0;
         }
         let a_i = projected_area(&self.ndf, wi) / wi.z.abs();
         let a_o = projected_area(&self.ndf, wo) / wo.z.abs();
-        let f = fresnel_conductor(wi.dot(&h), self.eta);
-        f * self.masking.g_reflection(a_i, a_o) * d / (4.0 * wi.z.abs())
+        let f = fresnel_conductor(hv.cos_ih, self.eta);
+        hv.walter_factor(wi.z, f) * self.masking.g_reflection(a_i, a_o) * d
+    }
+
+    fn density(&self, wi: Vec3, wo: Vec3) -> f64 {
+        match Self::half_vector(wi, wo) {
+            Some(hv) => self.density_of(&hv, projected_area(&self.ndf, wi)),
+            None => 0.0,
+        }
+    }
+}
+
+impl<N: Ndf> Bsdf for RoughConductor<N> {
+    /// [`AnalyticBsdf::f_cos`]; the generator is not used.
+    fn eval<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, _rng: &mut R) -> f64 {
+        self.f_cos(wi, wo)
     }
 
     /// Reflects about a visible normal drawn from the side of `wi`; weight `F G / G1(wi)`.
@@ -97,13 +103,13 @@ impl<N: Ndf> Bsdf for RoughConductor<N> {
         }
         let h = self.ndf.sample_visible(upper(wi), rng);
         let wo = reflect(wi, h);
-        let h = Self::half_vector(wi, wo)?;
+        let hv = Self::half_vector(wi, wo)?;
         let sigma_i = projected_area(&self.ndf, wi);
-        let pdf = self.pdf_half(h, sigma_i);
+        let pdf = self.density_of(&hv, sigma_i);
         let a_i = sigma_i / wi.z.abs();
         let a_o = projected_area(&self.ndf, wo) / wo.z.abs();
         let weight =
-            fresnel_conductor(wi.dot(&h), self.eta) * self.masking.g_reflection(a_i, a_o) * a_i;
+            fresnel_conductor(hv.cos_ih, self.eta) * self.masking.g_reflection(a_i, a_o) * a_i;
         if !(pdf > 0.0 && pdf.is_finite() && weight.is_finite()) {
             return None;
         }
@@ -116,9 +122,6 @@ impl<N: Ndf> Bsdf for RoughConductor<N> {
     }
 
     fn pdf<R: Rng + ?Sized>(&self, wi: Vec3, wo: Vec3, _rng: &mut R) -> f64 {
-        match Self::half_vector(wi, wo) {
-            Some(h) => self.pdf_half(h, projected_area(&self.ndf, wi)),
-            None => 0.0,
-        }
+        self.density(wi, wo)
     }
 }

@@ -1,6 +1,6 @@
 //! A smooth conductor: one Dirac delta lobe.
 
-use super::{Bsdf, BsdfSample, fresnel_conductor};
+use super::{AnalyticBsdf, Bsdf, BsdfSample, fresnel_conductor};
 use crate::error::{ParamError, finite};
 use crate::math::Vec3;
 use nalgebra::Complex;
@@ -46,6 +46,17 @@ impl SmoothConductor {
     /// The complex index `n + i k`.
     pub fn eta(&self) -> Complex<f64> {
         self.eta
+    }
+}
+
+/// A delta lobe only: nothing to evaluate.
+impl AnalyticBsdf for SmoothConductor {
+    fn f_cos(&self, _wi: Vec3, _wo: Vec3) -> f64 {
+        0.0
+    }
+
+    fn density(&self, _wi: Vec3, _wo: Vec3) -> f64 {
+        0.0
     }
 }
 

@@ -1,7 +1,7 @@
 //! A smooth dielectric interface: two Dirac delta lobes.
 
 use super::microfacet::refract;
-use super::{Bsdf, BsdfSample, fresnel_dielectric};
+use super::{AnalyticBsdf, Bsdf, BsdfSample, fresnel_dielectric};
 use crate::error::{ParamError, check_eta};
 use crate::math::Vec3;
 use rand::{Rng, RngExt};
@@ -29,6 +29,17 @@ impl SmoothDielectric {
     }
 }
 
+/// A delta lobe only: nothing to evaluate.
+impl AnalyticBsdf for SmoothDielectric {
+    fn f_cos(&self, _wi: Vec3, _wo: Vec3) -> f64 {
+        0.0
+    }
+
+    fn density(&self, _wi: Vec3, _wo: Vec3) -> f64 {
+        0.0
+    }
+}
+
 impl Bsdf for SmoothDielectric {
     fn eval<R: Rng + ?Sized>(&self, _wi: Vec3, _wo: Vec3, _rng: &mut R) -> f64 {
         0.0
@@ -47,12 +58,7 @@ impl Bsdf for SmoothDielectric {
                 delta: true,
             });
         }
-        let (normal, eta_rel) = if wi.z > 0.0 {
-            (Vec3::z(), self.eta)
-        } else {
-            (-Vec3::z(), 1.0 / self.eta)
-        };
-        let wo = refract(wi, normal, eta_rel)?;
+        let wo = refract(wi, Vec3::z(), self.eta)?;
         Some(BsdfSample {
             wo,
             weight: 1.0,

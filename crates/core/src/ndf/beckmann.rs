@@ -11,6 +11,20 @@ use std::f64::consts::FRAC_1_SQRT_2;
 
 /// Beckmann: `D(u) = exp(-tan^2 theta / alpha^2) / (pi alpha^2 u^4)`; slopes are Gaussian with
 /// standard deviation `alpha / sqrt(2)` per axis.
+///
+/// ```
+/// use stfit_core::ndf::{Beckmann, Ndf};
+/// use stfit_core::Vec3;
+///
+/// let beckmann = Beckmann::new(0.3)?;
+/// // Projected area is conserved: sigma(w) - sigma(-w) = w.z, on both sides of the horizon.
+/// let w = Vec3::new(0.6, 0.0, 0.8);
+/// assert!((beckmann.sigma(w) - beckmann.sigma(-w) - w.z).abs() < 1e-12);
+/// // Smith masking: G1 = 1 / (1 + Lambda), close to 1 away from grazing.
+/// assert!((beckmann.g1(w) - 1.0 / (1.0 + beckmann.lambda(w))).abs() < 1e-15);
+/// assert!(beckmann.g1(w) > 0.99);
+/// # Ok::<(), stfit_core::ParamError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Beckmann {
     alpha: f64,
@@ -87,9 +101,17 @@ pub(crate) fn sample_visible_beckmann<R: Rng + ?Sized>(
     inv_alpha: f64,
     rng: &mut R,
 ) -> Vec3 {
-    let s = (w.x * w.x + w.y * w.y).sqrt();
     let u = open_uniform(rng);
     let y = rng.sample::<f64, _>(StandardNormal) * FRAC_1_SQRT_2;
+    visible_normal_from_slopes(w, inv_alpha, u, y)
+}
+
+/// The Beckmann visible normal seen from `w` whose stretched x-slope is the quantile `u` in
+/// `(0, 1)` of the visible-slope distribution and whose y-slope is `y` (a `N(0, 1/2)` variate),
+/// for roughness `1 / inv_alpha`; `+z` for `w = -z`.
+#[inline]
+fn visible_normal_from_slopes(w: Vec3, inv_alpha: f64, u: f64, y: f64) -> Vec3 {
+    let s = (w.x * w.x + w.y * w.y).sqrt();
     let a = if s > 0.0 {
         w.z * inv_alpha / s
     } else if w.z > 0.0 {
@@ -114,6 +136,32 @@ pub(crate) fn sample_visible_beckmann<R: Rng + ?Sized>(
         inv_alpha.max(f64::MIN_POSITIVE),
     );
     m * (1.0 / m.norm())
+}
+
+impl Beckmann {
+    /// The visible normal seen from `w` that the uniforms `u` in `[0, 1)^2` map to (as pbrt-v4's
+    /// `Sample_wm(w, u)`): `u[0]` is the quantile of the stretched visible x-slope (inverted
+    /// exactly, as [`Ndf::sample_visible`] does), `u[1]` that of the Gaussian y-slope. Uniform
+    /// `u` gives exactly the density [`Ndf::d_visible`], for every `w` on the sphere.
+    /// [`Ndf::sample_visible`] draws its y-slope directly as a normal variate, so the two do not
+    /// map a generator's numbers to the same normals.
+    ///
+    /// ```
+    /// use stfit_core::Vec3;
+    /// use stfit_core::ndf::{Beckmann, Ndf};
+    ///
+    /// let beckmann = Beckmann::new(0.3)?;
+    /// let w = Vec3::new(0.6, 0.0, 0.8);
+    /// let wm = beckmann.sample_visible_from(w, [0.25, 0.5]);
+    /// assert!((wm.norm() - 1.0).abs() < 1e-12 && wm.z > 0.0 && w.dot(&wm) > 0.0);
+    /// # Ok::<(), stfit_core::ParamError>(())
+    /// ```
+    pub fn sample_visible_from(&self, w: Vec3, u: [f64; 2]) -> Vec3 {
+        // Strictly inside (0, 1): the quantiles of 0 and 1 are infinite.
+        let open = |u: f64| u.clamp(f64::EPSILON * 0.25, 1.0 - f64::EPSILON * 0.5);
+        let y = statrs::function::erf::erf_inv(2.0 * open(u[1]) - 1.0);
+        visible_normal_from_slopes(w, self.inv_alpha, open(u[0]), y)
+    }
 }
 
 /// Inverts the CDF of the visible x-slope of the unit-roughness Beckmann surface seen from

@@ -13,6 +13,22 @@ use std::f64::consts::{FRAC_1_SQRT_2, PI};
 /// Student-T: `D(u) = (g-1)^g alpha^(2g-2) / (pi u^4 (alpha^2 (g-1) + tan^2 theta)^g)` with
 /// shape `g = gamma > 3/2`. Slopes along one axis are `(alpha/sqrt 2) T_nu`, `nu = 2g - 2`.
 /// `gamma = 2` is GGX; `gamma -> inf` tends to Beckmann with the same alpha.
+///
+/// ```
+/// use stfit_core::ndf::{Ggx, Ndf, StudentT};
+/// use stfit_core::Vec3;
+///
+/// // gamma = 2 is exactly GGX; larger gamma shortens the tail toward Beckmann.
+/// let st = StudentT::new(0.4, 2.0)?;
+/// let ggx = Ggx::new(0.4)?;
+/// let wm = Vec3::new(0.6, 0.0, 0.8);
+/// assert!((st.d(wm) / ggx.d(wm) - 1.0).abs() < 1e-12);
+/// let w = Vec3::new(0.9, 0.0, (1.0f64 - 0.81).sqrt());
+/// assert!((st.lambda(w) / ggx.lambda(w) - 1.0).abs() < 1e-10);
+/// // The shape must exceed 3/2 (a finite mean slope).
+/// assert!(StudentT::new(0.4, 1.5).is_err());
+/// # Ok::<(), stfit_core::ParamError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StudentT {
     alpha: f64,

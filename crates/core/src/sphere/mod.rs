@@ -5,7 +5,8 @@
 //! closed form in general: it is the integral of `D` against the projected area of a ring of
 //! facets at one inclination (the cross section of a delta NDF), computed by Gauss-Legendre
 //! quadrature in the facet inclination. Height-field NDFs are special cases (zero below the
-//! horizon), and their quadrature reproduces the closed-form Smith `sigma`.
+//! horizon), seen on the sphere through [`HeightField`], and the quadrature reproduces their
+//! closed-form Smith `sigma`.
 //!
 //! Only the shape of `D` matters to a random walk in a half-space (a common factor rescales
 //! height), but the NDFs here keep the projected-area normalisation `integral D wm.z dwm = 1`
@@ -15,6 +16,7 @@ mod heightfield;
 mod porous;
 mod vmf;
 
+pub use heightfield::HeightField;
 pub use porous::Porous;
 pub use vmf::VonMisesFisher;
 
@@ -28,7 +30,7 @@ pub trait SphereNdf: Clone + Send + Sync {
     fn d_cos(&self, u: f64) -> f64;
 
     /// A constant majorant `Dbar >= D(wm)` for every `wm` on the sphere.
-    fn bound(&self) -> f64;
+    fn majorant(&self) -> f64;
 
     /// The angular width (radians) of the NDF's narrowest feature near the pole; it sets the
     /// quadrature panels of [`SphereNdf::sigma`].
@@ -36,17 +38,13 @@ pub trait SphereNdf: Clone + Send + Sync {
 
     /// Whether `D` vanishes below the horizon (`u <= 0`), as for height fields. The
     /// null-scattering walk then takes its majorant on the upper hemisphere only.
-    fn height_field(&self) -> bool {
+    fn is_height_field(&self) -> bool {
         false
     }
 
-    /// `D(wm)` for a unit `wm`.
-    fn d(&self, wm: Vec3) -> f64 {
-        self.d_cos(wm.z.clamp(-1.0, 1.0))
-    }
-
-    /// Projected area `sigma(w) = integral max(0, w.wm) D(wm) dwm`, by quadrature of `D`
-    /// against the delta-NDF cross section [`ring_cross_section`].
+    /// Projected area `sigma(w) = integral max(0, w.wm) D(wm) dwm`; by default by quadrature
+    /// of `D` against the delta-NDF cross section [`ring_cross_section`]
+    /// ([`sigma_by_quadrature`]).
     fn sigma(&self, w: Vec3) -> f64 {
         sigma_by_quadrature(|u| self.d_cos(u), w.z, self.angular_width())
     }

@@ -51,8 +51,8 @@ impl<N: SphereNdf> SphereNdf for Porous<N> {
         (1.0 - self.porosity) * self.base.d_cos(u) + self.uniform
     }
 
-    fn bound(&self) -> f64 {
-        (1.0 - self.porosity) * self.base.bound() + self.uniform
+    fn majorant(&self) -> f64 {
+        (1.0 - self.porosity) * self.base.majorant() + self.uniform
     }
 
     fn angular_width(&self) -> f64 {

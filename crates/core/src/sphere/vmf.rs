@@ -52,7 +52,7 @@ impl SphereNdf for VonMisesFisher {
         self.peak * (self.kappa * (u - 1.0)).exp()
     }
 
-    fn bound(&self) -> f64 {
+    fn majorant(&self) -> f64 {
         self.peak
     }
 

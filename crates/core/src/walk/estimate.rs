@@ -96,26 +96,53 @@ fn chunk_len(walks: u64, c: u64) -> u64 {
     CHUNK.min(walks - c * CHUNK)
 }
 
-/// Implements the estimators of this module as inherent methods of a walker type.
+/// The Monte Carlo estimators of a random walk over many walks, behind one object-safe trait,
+/// so that a surface chosen at run time (a command line, a Python call) is one
+/// `Box<dyn Estimator>` (see [`crate::surface`]). Both walks implement it. Every estimate is
+/// parallel (rayon) and identical for a given seed whatever the number of threads: walks run
+/// in chunks of [`CHUNK`], each with its own random-number stream, summed in chunk order.
+///
+/// ```
+/// use stfit_core::Vec3;
+/// use stfit_core::ndf::Ggx;
+/// use stfit_core::walk::{DielectricFacet, Estimator, Microsurface};
+///
+/// let glass = Microsurface::new(Ggx::new(0.5)?, DielectricFacet::new(1.5)?);
+/// let albedo = glass.albedo(Vec3::new(0.0, 0.0, 1.0), 20_000, 7);
+/// // A lossless dielectric conserves energy: every walk leaves on one side or the other.
+/// assert!((albedo.reflectance + albedo.transmittance - 1.0).abs() < 1e-12);
+/// # Ok::<(), stfit_core::ParamError>(())
+/// ```
+pub trait Estimator: Sync {
+    /// Estimates `f(wi, wo) |wo.z|` for every `wo` in `wos` from one set of `walks` walks from
+    /// `wi`, with next-event estimation toward every `wo` at every hit.
+    fn eval_many(&self, wi: Vec3, wos: &[Vec3], walks: u64, seed: u64) -> Vec<Estimate>;
+
+    /// Fractions of the flux arriving from `wi` that leave on each side, from `walks` walks,
+    /// calling `progress(n)` after each chunk of `n` walks (from any thread).
+    fn albedo_with_progress(
+        &self,
+        wi: Vec3,
+        walks: u64,
+        seed: u64,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> AlbedoEstimate;
+
+    /// [`Estimator::albedo_with_progress`] without progress reports.
+    fn albedo(&self, wi: Vec3, walks: u64, seed: u64) -> AlbedoEstimate {
+        self.albedo_with_progress(wi, walks, seed, &|_| {})
+    }
+}
+
+/// Implements [`Estimator`] for a walker type through the generic estimators of this module.
 macro_rules! estimators {
     ($ty:ident < $($g:ident : $b:path),* >) => {
-        impl<$($g: $b),*> $ty<$($g),*> {
-            /// Estimates `f(wi, wo) |wo.z|` for every `wo` in `wos` from one set of `walks` walks
-            /// from `wi`, with next-event estimation toward every `wo` at every hit. Parallel
-            /// (rayon) and deterministic for a given `seed` whatever the number of threads.
-            pub fn eval_many(&self, wi: Vec3, wos: &[Vec3], walks: u64, seed: u64) -> Vec<Estimate> {
+        impl<$($g: $b),*> $crate::walk::Estimator for $ty<$($g),*> {
+            fn eval_many(&self, wi: Vec3, wos: &[Vec3], walks: u64, seed: u64) -> Vec<Estimate> {
                 $crate::walk::estimate::eval_many(self, wi, wos, walks, seed)
             }
 
-            /// Fractions of the flux arriving from `wi` that leave on each side, from `walks`
-            /// walks.
-            pub fn albedo(&self, wi: Vec3, walks: u64, seed: u64) -> AlbedoEstimate {
-                $crate::walk::estimate::albedo(self, wi, walks, seed, &|_| {})
-            }
-
-            /// [`Self::albedo`], calling `progress(n)` after each chunk of `n` walks (from any
-            /// thread).
-            pub fn albedo_with_progress(
+            fn albedo_with_progress(
                 &self,
                 wi: Vec3,
                 walks: u64,
@@ -130,6 +157,63 @@ macro_rules! estimators {
 pub(crate) use estimators;
 
 estimators!(Microsurface<N: Ndf, F: Facet>);
+
+/// A seed for the walks from one incident direction: `seed` mixed with the bits of `wi`
+/// (SplitMix64's finaliser), so that every direction has its own random numbers, fixed by the
+/// direction itself whatever the order in which directions come.
+pub fn direction_seed(seed: u64, wi: Vec3) -> u64 {
+    let mut z = seed;
+    for c in [wi.x, wi.y, wi.z] {
+        // `+ 0.0` maps -0.0 to 0.0: the same direction has one seed.
+        z = splitmix(z ^ (c + 0.0).to_bits());
+    }
+    z
+}
+
+/// SplitMix64's output function of a 64-bit state.
+fn splitmix(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// Estimates `f(wi, wo) |wo.z|` for every pair `(wi, wo)`: pairs that share `wi` (bit for bit)
+/// share one set of `walks` walks seeded by [`direction_seed`]`(seed, wi)`, so each estimate
+/// depends on its direction pair and the seed, not on the order or grouping of the pairs.
+/// Groups are found by hashing, in time linear in the number of pairs.
+pub fn eval_pairs(
+    estimator: &dyn Estimator,
+    pairs: &[(Vec3, Vec3)],
+    walks: u64,
+    seed: u64,
+) -> Vec<Estimate> {
+    let key = |w: &Vec3| [w.x + 0.0, w.y + 0.0, w.z + 0.0].map(f64::to_bits);
+    let mut groups: Vec<(Vec3, Vec<usize>)> = Vec::new();
+    let mut index: std::collections::HashMap<[u64; 3], usize> = std::collections::HashMap::new();
+    for (k, (wi, _)) in pairs.iter().enumerate() {
+        let g = *index.entry(key(wi)).or_insert_with(|| {
+            groups.push((*wi, Vec::new()));
+            groups.len() - 1
+        });
+        groups[g].1.push(k);
+    }
+    let mut out = vec![
+        Estimate {
+            mean: 0.0,
+            stderr: 0.0
+        };
+        pairs.len()
+    ];
+    for (wi, members) in &groups {
+        let wos: Vec<Vec3> = members.iter().map(|&k| pairs[k].1).collect();
+        let est = estimator.eval_many(*wi, &wos, walks, direction_seed(seed, *wi));
+        for (&k, e) in members.iter().zip(est) {
+            out[k] = e;
+        }
+    }
+    out
+}
 
 /// Estimates `f(wi, wo) |wo.z|` for every `wo` in `wos` from one set of `walks` walks from
 /// `wi`, with next-event estimation toward every `wo` at every hit. Parallel (rayon) and

@@ -5,7 +5,7 @@
 //! arrive at a facet from either side. Directions are in the macro-surface frame.
 
 use super::Microsurface;
-use crate::bsdf::{Bsdf, fresnel_conductor, fresnel_dielectric};
+use crate::bsdf::{Bsdf, HalfVector, fresnel_conductor, fresnel_dielectric, reflect, refract};
 use crate::error::{ParamError, check_eta, finite};
 use crate::math::{Frame, Vec3, safe_sqrt};
 use crate::ndf::Ndf;
@@ -131,44 +131,6 @@ pub trait Facet: Send + Sync {
     fn phase_pdf<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64;
 }
 
-/// Mirror reflection of `wi` about the unit normal `m` (either side).
-#[inline]
-fn reflect(wi: Vec3, m: Vec3) -> Vec3 {
-    m * (2.0 * wi.dot(&m)) - wi
-}
-
-/// Refraction of `wi` through an interface of outward normal `m` with index `eta` below it and 1
-/// above; `wi` may be on either side. `None` under total internal reflection.
-#[inline]
-fn refract(wi: Vec3, m: Vec3, eta: f64) -> Option<Vec3> {
-    let cos_i = wi.dot(&m);
-    // eta_t: index of the transmission side over that of the incident side.
-    let (eta_t, n, cos_i) = if cos_i >= 0.0 {
-        (eta, m, cos_i)
-    } else {
-        (1.0 / eta, -m, -cos_i)
-    };
-    let sin2_t = (1.0 - cos_i * cos_i) / (eta_t * eta_t);
-    if sin2_t >= 1.0 {
-        return None;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    Some((-wi / eta_t + n * (cos_i / eta_t - cos_t)).normalize())
-}
-
-/// `v / |v|` as the outward normal of a facet that the walker of `vis` can hit
-/// (`wi_side . h > 0`), or `None` for a zero vector. For a height field the outward normal of a
-/// hit facet has `z > 0`; facets of a full-sphere NDF may face down.
-#[inline]
-fn facing_unit<V: VisibleNormals>(v: Vec3, vis: &V) -> Option<Vec3> {
-    let len = v.norm();
-    if len == 0.0 || !len.is_finite() {
-        return None;
-    }
-    let h = v / len;
-    Some(if vis.wi_side().dot(&h) < 0.0 { -h } else { h })
-}
-
 /// A smooth dielectric facet: index 1 above, `eta` below (`eta` may be below 1). Light is
 /// reflected with the exact Fresnel probability and refracted otherwise; sample weights are 1.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -211,29 +173,19 @@ impl Facet for DielectricFacet {
         let n_i = if vis.inside() { self.eta } else { 1.0 };
         let n_o = if o_inside { self.eta } else { 1.0 };
         let reflection = o_inside == vis.inside();
-        let h = if reflection {
-            facing_unit(wi + wo, vis)
-        } else {
-            facing_unit(-(wi * n_i + wo * n_o), vis)
+        let Some(hv) = HalfVector::of_pair(wi, wo, n_i, n_o, reflection, vis.wi_side()) else {
+            return 0.0;
         };
-        let Some(h) = h else { return 0.0 };
         let side = if vis.inside() { -1.0 } else { 1.0 };
-        let (hi, ho) = (wi.dot(&h), wo.dot(&h));
         // The facet must face the walker, and wo must leave it on the right side.
-        if side * hi <= 0.0 || (side * ho > 0.0) != reflection {
+        if side * hv.cos_ih <= 0.0 || (side * hv.cos_oh > 0.0) != reflection {
             return 0.0;
         }
-        let d_vis = vis.density(h);
+        let d_vis = vis.density(hv.h);
         if d_vis == 0.0 {
             return 0.0;
         }
-        let f = fresnel_dielectric(hi, self.eta);
-        if reflection {
-            f * d_vis / (4.0 * hi.abs())
-        } else {
-            let denom = n_i * hi + n_o * ho;
-            (1.0 - f) * d_vis * ho.abs() * n_o * n_o / (denom * denom)
-        }
+        d_vis * hv.jacobian() * hv.lobe_weight(fresnel_dielectric(hv.cos_ih, self.eta))
     }
 
     /// Sample weights are 1, so the sampling density is the phase function.
@@ -322,15 +274,14 @@ impl Facet for ConductorFacet {
         if (wo.z < 0.0) != vis.inside() {
             return 0.0;
         }
-        let Some(h) = facing_unit(vis.wi() + wo, vis) else {
+        let Some(hv) = HalfVector::of_pair(vis.wi(), wo, 1.0, 1.0, true, vis.wi_side()) else {
             return 0.0;
         };
-        let hi = vis.wi().dot(&h);
-        let d_vis = vis.density(h);
+        let d_vis = vis.density(hv.h);
         if d_vis == 0.0 {
             return 0.0;
         }
-        d_vis / (4.0 * hi.abs())
+        d_vis * hv.jacobian()
     }
 }
 
@@ -505,26 +456,5 @@ fn check_unit(name: &'static str, value: f64) -> Result<f64, ParamError> {
             value,
             expected: "in [0, 1]",
         })
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn refraction_obeys_snell_and_round_trips() {
-        let m = Vec3::new(0.3, -0.2, 0.9).normalize();
-        let wi = Vec3::new(-0.5, 0.1, 0.7).normalize();
-        for eta in [1.51, 1.0 / 1.51] {
-            let Some(wt) = refract(wi, m, eta) else {
-                continue;
-            };
-            let (si, st) = (wi.cross(&m).norm(), wt.cross(&m).norm());
-            assert!((si - eta * st).abs() < 1e-12);
-            assert!(wt.dot(&m) < 0.0);
-            let back = refract(wt, m, eta).unwrap();
-            assert!((back - wi).norm() < 1e-12);
-        }
     }
 }

@@ -29,6 +29,24 @@ use rand_distr::Exp1;
 ///
 /// Only the paths selected by [`ScatteringOrders`] contribute.
 ///
+/// ```
+/// use stfit_core::bsdf::{AnalyticBsdf, Masking, RoughDielectric};
+/// use stfit_core::ndf::Ggx;
+/// use stfit_core::walk::{DielectricFacet, Estimator, Microsurface};
+/// use stfit_core::{ScatteringOrders, Vec3};
+///
+/// let ggx = Ggx::new(0.5)?;
+/// let surface = Microsurface::new(ggx, DielectricFacet::new(1.5)?);
+/// let wi = Vec3::new(0.6, 0.0, 0.8);
+/// let wo = Vec3::new(-0.3, 0.0, -(0.91f64).sqrt());
+/// // The walk's order 1 is the analytic BSDF with height-correlated masking.
+/// let single = surface.with_orders(ScatteringOrders::Single);
+/// let e = single.eval_many(wi, &[wo], 50_000, 3)[0];
+/// let exact = RoughDielectric::new(ggx, 1.5, Masking::Correlated)?.f_cos(wi, wo);
+/// assert!((e.mean - exact).abs() < 5.0 * e.stderr, "{} vs {exact}", e.mean);
+/// # Ok::<(), stfit_core::ParamError>(())
+/// ```
+///
 /// Variance: the next-event estimate of `eval` is heavy-tailed. A walker that hits the surface
 /// while travelling steeply upward sees few facets (small `sigma`), so its visible-normal
 /// density, and the phase value, is large, while such hits are rare. Multiple scattering toward

@@ -48,7 +48,7 @@ mod microsurface;
 mod null;
 
 pub use engine::{WalkEnd, WalkSample};
-pub use estimate::{AlbedoEstimate, Estimate};
+pub use estimate::{AlbedoEstimate, CHUNK, Estimate, Estimator, direction_seed, eval_pairs};
 pub use facet::{
     BsdfFacet, ConductorFacet, DielectricFacet, Facet, FacetSample, HeightFieldHit,
     LambertianFacet, VisibleNormals,
@@ -56,25 +56,107 @@ pub use facet::{
 pub use microsurface::Microsurface;
 pub use null::{NullHit, NullMicrosurface};
 
+use crate::bsdf::Masking;
+use serde::{Deserialize, Serialize};
+
+/// Separable masking asked of a model with orders >= 2 (see
+/// [`ScatteringOrders::check_masking`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MaskingError {
+    pub orders: ScatteringOrders,
+}
+
+impl std::fmt::Display for MaskingError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "orders {} come from the random walk, whose masking is height-correlated by \
+             construction: masking must be correlated",
+            self.orders.name()
+        )
+    }
+}
+
+impl std::error::Error for MaskingError {}
+
+/// Default number of walks of the Monte Carlo estimates of `eval`: walks per distinct
+/// incident direction.
+pub const DEFAULT_EVAL_WALKS: u64 = 100_000;
+
+/// Default number of walks of an albedo estimate.
+pub const DEFAULT_ALBEDO_WALKS: u64 = 1_000_000;
+
 /// Safety cap on the number of scattering events in one walk. No physical path comes near it
 /// (mean path lengths are a few events); a walk that reaches it is dropped and counted.
 pub const MAX_BOUNCES: u32 = 1_000_000;
 
-/// Which scattering orders a microsurface returns: paths with exactly one scattering event, with
-/// two or more, or all of them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// Which scattering orders a model includes, the one vocabulary of every command and type:
+/// `single` is order 1 (paths that scatter exactly once: the single-scattering BSDF with
+/// height-correlated masking), `multiple` is orders >= 2 only, `all` is the full BSDF (every
+/// order).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum ScatteringOrders {
-    /// Only paths that scatter exactly once (the single-scattering BSDF with height-correlated
-    /// masking).
+    /// Order 1: paths that scatter exactly once.
     Single,
-    /// Only paths that scatter two or more times.
+    /// Orders >= 2: paths that scatter two or more times.
     Multiple,
-    /// Every path.
+    /// Every order: the full BSDF.
     #[default]
     All,
 }
 
+impl std::str::FromStr for ScatteringOrders {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "single" => Ok(Self::Single),
+            "multiple" => Ok(Self::Multiple),
+            "all" => Ok(Self::All),
+            _ => Err(format!(
+                "unknown orders '{s}' (expected single, multiple or all)"
+            )),
+        }
+    }
+}
+
 impl ScatteringOrders {
+    /// The name used on the command line and in files: `single`, `multiple` or `all`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Single => "single",
+            Self::Multiple => "multiple",
+            Self::All => "all",
+        }
+    }
+
+    /// The masking of a model with these orders unless told otherwise: separable for single
+    /// scattering (Walter et al. 2007, what the published fits used), height-correlated
+    /// otherwise (the random walk's, by construction).
+    pub fn default_masking(self) -> Masking {
+        match self {
+            Self::Single => Masking::Separable,
+            Self::Multiple | Self::All => Masking::Correlated,
+        }
+    }
+
+    /// `masking`, if a model with these orders can have it: orders >= 2 come from the random
+    /// walk, whose masking is height-correlated by construction, so `multiple` and `all` take
+    /// only [`Masking::Correlated`]. The one place this rule is enforced.
+    pub fn check_masking(self, masking: Masking) -> Result<Masking, MaskingError> {
+        match (self, masking) {
+            (Self::Multiple | Self::All, Masking::Separable) => Err(MaskingError { orders: self }),
+            _ => Ok(masking),
+        }
+    }
+
+    /// The masking given, or [`ScatteringOrders::default_masking`], checked by
+    /// [`ScatteringOrders::check_masking`].
+    pub fn masking(self, given: Option<Masking>) -> Result<Masking, MaskingError> {
+        self.check_masking(given.unwrap_or(self.default_masking()))
+    }
+
     /// Whether a path with `order` scattering events is included.
     #[inline]
     pub fn includes(self, order: u32) -> bool {

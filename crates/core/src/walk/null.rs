@@ -35,7 +35,7 @@ use std::f64::consts::PI;
 /// averaged over the sub-normalised density `max(0, wi_side . m) D(m) / sigma_bar` (its mass is
 /// the probability that the collision is real), so no `sigma(wi)` is needed along the walk. The
 /// escape probability toward `wo` from depth `t` is `exp(-t Lambda(wo))` with
-/// `Lambda(wo) = sigma(-wo) / wo.z`, `sigma` from [`SphereNdf::sigma`] (quadrature), once per
+/// `Lambda(wo) = sigma(-wo) / wo.z`, `sigma` from [`SphereNdf::sigma`] (quadrature, or the closed form of a [`HeightField`](crate::sphere::HeightField)), once per
 /// target direction.
 ///
 /// For a height-field NDF the walk reproduces the height-field walk. Its cost grows with
@@ -180,13 +180,14 @@ impl<S: SphereNdf> VisibleNormals for NullHit<'_, S> {
         if c <= 0.0 {
             return 0.0;
         }
-        c * self.ndf.d(m) / majorant_sigma(self.bound, self.ndf.height_field(), v)
+        c * self.ndf.d_cos(m.z.clamp(-1.0, 1.0))
+            / majorant_sigma(self.bound, self.ndf.is_height_field(), v)
     }
 
     #[inline]
     fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> (Vec3, f64) {
         let v = self.wi_side();
-        let m = if self.ndf.height_field() {
+        let m = if self.ndf.is_height_field() {
             let cap = Cap::new(v);
             match cap.sample(rng) {
                 Some((_, c)) => cap.normal(&c),
@@ -195,7 +196,7 @@ impl<S: SphereNdf> VisibleNormals for NullHit<'_, S> {
         } else {
             cosine_about(v, rng)
         };
-        (m, self.ndf.d(m) / self.bound)
+        (m, self.ndf.d_cos(m.z.clamp(-1.0, 1.0)) / self.bound)
     }
 }
 
@@ -223,10 +224,10 @@ impl<S: SphereNdf, F: Facet> NullMicrosurface<S, F> {
     /// A microsurface with the given NDF and facet BSDF, all scattering orders. Fails if the NDF
     /// has no finite positive majorant (Student-T with gamma < 2).
     pub fn new(ndf: S, facet: F) -> Result<Self, ParamError> {
-        let bound = ndf.bound();
+        let bound = ndf.majorant();
         if !(bound.is_finite() && bound > 0.0) {
             return Err(ParamError::OutOfRange {
-                name: "NDF bound",
+                name: "NDF majorant",
                 value: bound,
                 expected: "a finite majorant > 0 (Student-T needs gamma >= 2)",
             });
@@ -265,7 +266,7 @@ impl<S: SphereNdf, F: Facet> NullMicrosurface<S, F> {
     }
 
     /// The majorant `Dbar` of the NDF.
-    pub fn bound(&self) -> f64 {
+    pub fn majorant(&self) -> f64 {
         self.bound
     }
 
@@ -308,7 +309,7 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
         mut visit: impl FnMut(&Hit, &mut R),
     ) -> WalkEnd {
         let last = self.orders.last_order();
-        let upper = self.ndf.height_field();
+        let upper = self.ndf.is_height_field();
         let mut w = -start.wi;
         let mut inside = start.wi.z < 0.0;
         let mut depth = 0.0f64;

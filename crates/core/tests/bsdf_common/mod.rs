@@ -1,12 +1,12 @@
 //! Shared helpers of the BSDF tests: test directions, quadrature over the sphere and a
-//! chi-square test of a direction sampler that may fail, built on `stfit_core::validate`.
+//! chi-square test of a direction sampler that may fail, built on `stfit_validate`.
 
 #![allow(dead_code)]
 
 use std::f64::consts::PI;
 use stfit_core::Vec3;
 use stfit_core::math::{radians, spherical_direction};
-use stfit_core::validate::{self, ChiSquare, SphereBins};
+use stfit_validate::{self as validate, ChiSquare, SphereBins};
 
 /// A unit direction at polar angle `theta_deg` from +z (values above 90 point below the
 /// surface) at a fixed, generic azimuth.

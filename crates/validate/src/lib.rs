@@ -1,4 +1,6 @@
-//! Statistical validation of samplers of directions on the unit sphere.
+//! stfit-validate: statistical validation of samplers of directions on the unit sphere, for
+//! anyone who writes an NDF, a visible-normal sampler or a BSDF (as Mitsuba 3 ships `mi.chi2`).
+//! stfit's own samplers are checked with it.
 //!
 //! The workflow for a sampler with claimed density `p(w)` (per unit solid angle):
 //!
@@ -30,7 +32,7 @@
 //! use stfit_core::Vec3;
 //! use stfit_core::math::spherical_direction;
 //! use stfit_core::ndf::{Ggx, Ndf};
-//! use stfit_core::validate::{SphereBins, bonferroni, chi_square, integrate_sphere};
+//! use stfit_validate::{SphereBins, bonferroni, chi_square, integrate_sphere};
 //!
 //! let ndf = Ggx::new(0.3).unwrap();
 //! let w = spherical_direction(1.0, 0.2);
@@ -45,11 +47,13 @@
 //! assert!(result.passes(bonferroni(0.01, 1)), "{result}");
 //! ```
 
-use crate::math::{Frame, Vec3};
 use rayon::prelude::*;
 use statrs::function::gamma::gamma_ur;
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt;
+use stfit_core::Vec3;
+use stfit_core::math::Frame;
+use stfit_core::quadrature::GaussLegendre;
 
 /// Expected counts below this are pooled before the Pearson statistic is formed.
 pub const MIN_EXPECTED: f64 = 5.0;
@@ -300,6 +304,8 @@ fn quantile_edges(mass: &[f64], lo: f64, hi: f64, n: usize) -> Vec<f64> {
 struct Rule {
     nodes: Vec<(f64, f64)>,
     weights: Vec<f64>,
+    /// The 8-point Gauss-Legendre rule of the phi integrals.
+    gl: GaussLegendre,
 }
 
 /// Tanh-sinh (double exponential) rule on `(0, 1)`, step `h = 1/4`, with nodes out to the
@@ -322,20 +328,12 @@ fn tanh_sinh_rule() -> Rule {
         nodes.push((t, one_minus_t));
         weights.push(w);
     }
-    Rule { nodes, weights }
+    Rule {
+        nodes,
+        weights,
+        gl: GaussLegendre::new(8),
+    }
 }
-
-/// 8-point Gauss-Legendre nodes and weights on `(-1, 1)`.
-const GL8: [(f64, f64); 8] = [
-    (-0.960_289_856_497_536_2, 0.101_228_536_290_376_26),
-    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (-0.183_434_642_495_65, 0.362_683_783_378_362),
-    (0.183_434_642_495_65, 0.362_683_783_378_362),
-    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (0.960_289_856_497_536_2, 0.101_228_536_290_376_26),
-];
 
 /// Relative and absolute (probability) tolerances of the adaptive cell quadrature, and the
 /// bisection depth limit.
@@ -343,26 +341,26 @@ const REL_TOL: f64 = 1e-9;
 const ABS_TOL: f64 = 1e-13;
 const MAX_DEPTH: u32 = 12;
 
-/// Adaptive Gauss-Legendre: 8-point rule on `(a, b)` against the sum over its halves,
-/// bisecting until they agree; `whole` is the 8-point estimate on `(a, b)`.
-fn adaptive_gl(f: &impl Fn(f64) -> f64, a: f64, b: f64, whole: f64, abs: f64, depth: u32) -> f64 {
+/// Adaptive Gauss-Legendre: the rule on `(a, b)` against the sum over its halves, bisecting
+/// until they agree; `whole` is the rule's estimate on `(a, b)`.
+fn adaptive_gl(
+    gl: &GaussLegendre,
+    f: &impl Fn(f64) -> f64,
+    a: f64,
+    b: f64,
+    whole: f64,
+    abs: f64,
+    depth: u32,
+) -> f64 {
     let m = 0.5 * (a + b);
-    let left = gl8(f, a, m);
-    let right = gl8(f, m, b);
+    let left = gl.integrate(a, m, f);
+    let right = gl.integrate(m, b, f);
     let sum = left + right;
     if depth == 0 || (sum - whole).abs() <= (REL_TOL * sum.abs()).max(abs) {
         return sum;
     }
-    adaptive_gl(f, a, m, left, 0.5 * abs, depth - 1)
-        + adaptive_gl(f, m, b, right, 0.5 * abs, depth - 1)
-}
-
-fn gl8(f: &impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
-    let h = 0.5 * (b - a);
-    GL8.iter()
-        .map(|&(x, w)| w * f(a + h * (1.0 + x)))
-        .sum::<f64>()
-        * h
+    adaptive_gl(gl, f, a, m, left, 0.5 * abs, depth - 1)
+        + adaptive_gl(gl, f, m, b, right, 0.5 * abs, depth - 1)
 }
 
 /// Tanh-sinh on the sub-interval `(x0, x1)` of `(0, len)`; `g(d, from_end)` evaluates the
@@ -515,7 +513,10 @@ fn integrate_patch(
         pb.sort_by(f64::total_cmp);
         let total: f64 = pb
             .windows(2)
-            .map(|e| adaptive_gl(&fp, e[0], e[1], gl8(&fp, e[0], e[1]), ABS_TOL, MAX_DEPTH))
+            .map(|e| {
+                let whole = ts.gl.integrate(e[0], e[1], &fp);
+                adaptive_gl(&ts.gl, &fp, e[0], e[1], whole, ABS_TOL, MAX_DEPTH)
+            })
             .sum();
         st * total
     };
@@ -738,9 +739,9 @@ pub fn chi_square(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::spherical_direction;
     use rand::{RngExt, SeedableRng};
     use rand_pcg::Pcg64;
+    use stfit_core::math::spherical_direction;
 
     const INV_4PI: f64 = 1.0 / (4.0 * PI);
 

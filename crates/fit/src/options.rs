@@ -1,0 +1,183 @@
+//! How a fit is made: the loss, the optimiser, and the physics of the model (glass index,
+//! masking, scattering orders, walks), with their defaults and the rules for which go together.
+
+use serde::{Deserialize, Serialize};
+use stfit_core::bsdf::Masking;
+use stfit_core::error::check_eta;
+use stfit_core::walk::ScatteringOrders;
+
+use crate::conventions::DEFAULT_ETA;
+use crate::fit::FitError;
+
+/// Default number of random walks per incident direction of the all-orders model's orders >= 2
+/// term, at every model evaluation (fits, `synth`, report curves).
+pub const DEFAULT_WALKS: u64 = 20_000;
+
+/// Default floor of the log loss, relative to the largest measured value of a sample.
+pub const DEFAULT_LOG_FLOOR: f64 = 1e-3;
+
+/// The loss minimised by a fit, on the measured value `y` (`L` or the BSDF) and the model `m`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Loss {
+    /// Least squares on `sqrt(y)` (the published comparison's view).
+    #[default]
+    Sqrt,
+    /// Least squares on `y`.
+    Linear,
+    /// Least squares on `ln(y + floor)`, `floor` = [`FitOptions::log_floor`] times the
+    /// sample's largest measured value: a relative loss for data spanning decades, where the
+    /// floor keeps values near zero (noise) from dominating.
+    Log,
+}
+
+impl Loss {
+    /// `sqrt`, `linear` or `log`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Sqrt => "sqrt",
+            Self::Linear => "linear",
+            Self::Log => "log",
+        }
+    }
+}
+
+/// A model parameter that a fit either holds at a value or fits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Parameter {
+    /// Held at this value.
+    Fixed(f64),
+    /// Fitted.
+    Free,
+}
+
+impl Parameter {
+    /// Whether the parameter is fitted.
+    pub fn is_free(self) -> bool {
+        self == Self::Free
+    }
+}
+
+/// The local optimiser of the shape parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Optimizer {
+    #[default]
+    NelderMead,
+    Lbfgs,
+}
+
+impl Optimizer {
+    /// `nelder-mead` or `lbfgs`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::NelderMead => "nelder-mead",
+            Self::Lbfgs => "lbfgs",
+        }
+    }
+}
+
+/// Smallest glass index a free-eta fit reaches.
+pub const ETA_MIN: f64 = 1.05;
+/// Largest glass index a free-eta fit reaches.
+pub const ETA_MAX: f64 = 3.0;
+
+/// Settings shared by every fit in a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FitOptions {
+    /// Relative index of the glass `n_inside / n_outside`: held (default
+    /// [`DEFAULT_ETA`]) or fitted in `[ETA_MIN, ETA_MAX]`.
+    pub eta: Parameter,
+    /// The per-sample calibration scale: fitted (the default; calibration is rarely absolute)
+    /// or held at a value (`1` for absolutely calibrated data).
+    pub scale: Parameter,
+    pub loss: Loss,
+    /// The floor of [`Loss::Log`], relative to the sample's largest measured value (default
+    /// [`DEFAULT_LOG_FLOOR`]).
+    pub log_floor: f64,
+    pub optimizer: Optimizer,
+    /// Smith masking: any for single scattering, correlated for all orders
+    /// ([`ScatteringOrders::check_masking`]).
+    pub masking: Masking,
+    /// `single` or `all` (a fit of orders >= 2 alone would fit no measurement).
+    pub orders: ScatteringOrders,
+    /// Walks per incident direction of the orders >= 2 term (orders all).
+    pub walks: u64,
+    /// Seed of those walks (orders all).
+    pub seed: u64,
+}
+
+impl Default for FitOptions {
+    /// Single scattering with separable masking, least squares on `sqrt(L)`, Nelder-Mead, eta
+    /// held at 1.51 ([`DEFAULT_ETA`]), the scale fitted; [`DEFAULT_WALKS`] walks from seed 1
+    /// for orders all.
+    fn default() -> Self {
+        Self {
+            eta: Parameter::Fixed(DEFAULT_ETA),
+            scale: Parameter::Free,
+            loss: Loss::Sqrt,
+            log_floor: DEFAULT_LOG_FLOOR,
+            optimizer: Optimizer::NelderMead,
+            masking: Masking::Separable,
+            orders: ScatteringOrders::Single,
+            walks: DEFAULT_WALKS,
+            seed: 1,
+        }
+    }
+}
+
+impl FitOptions {
+    /// The defaults with `orders` and their default masking
+    /// ([`ScatteringOrders::default_masking`]).
+    pub fn with_orders(orders: ScatteringOrders) -> Self {
+        Self {
+            orders,
+            masking: orders.default_masking(),
+            ..Self::default()
+        }
+    }
+
+    /// Checks the options: a valid eta (fixed) or its search range, a finite scale > 0 if
+    /// fixed, a log floor > 0, orders single or all with a masking they allow, and at least one
+    /// walk for orders all.
+    pub fn check(&self) -> Result<(), FitError> {
+        if let Parameter::Fixed(eta) = self.eta {
+            check_eta(eta)?;
+        }
+        if let Parameter::Fixed(scale) = self.scale {
+            if !(scale.is_finite() && scale > 0.0) {
+                return Err(FitError::InvalidSpec(format!(
+                    "a fixed scale must be finite and > 0, got {scale}"
+                )));
+            }
+        }
+        if !(self.log_floor.is_finite() && self.log_floor > 0.0) {
+            return Err(FitError::InvalidSpec(format!(
+                "the log floor must be finite and > 0, got {}",
+                self.log_floor
+            )));
+        }
+        check_orders(self.orders, self.masking)?;
+        if self.orders == ScatteringOrders::All && self.walks == 0 {
+            return Err(FitError::InvalidSpec(
+                "orders all need at least one random walk per incident direction".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The orders a model of measurements can have, single or all, with a masking they allow.
+pub fn check_orders(orders: ScatteringOrders, masking: Masking) -> Result<(), FitError> {
+    if orders == ScatteringOrders::Multiple {
+        return Err(FitError::InvalidSpec(
+            "orders multiple (>= 2 only) model no measurement: fit and simulate with single or \
+             all"
+            .into(),
+        ));
+    }
+    orders
+        .check_masking(masking)
+        .map_err(|e| FitError::InvalidSpec(e.to_string()))?;
+    Ok(())
+}

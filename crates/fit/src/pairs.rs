@@ -1,0 +1,250 @@
+//! Tables of direction pairs, the input and output of `stfit eval`: CSV with the columns
+//! `wi_x, wi_y, wi_z, wo_x, wo_y, wo_z` (any order; other columns are passed through), one
+//! pair of unit vectors in the local frame per row (z > 0 outside, `wi` toward the light), read
+//! with the text rules of every stfit file (`data-format.md`: byte-order mark, comments, blank
+//! lines, quoting) and errors that name the source, the line and the column.
+
+use std::io::{self, Write};
+use std::path::Path;
+
+use stfit_core::Vec3;
+
+use crate::load::{LoadError, LoadErrorKind, read_records, text_fields};
+
+/// The direction columns, in the order `(wi, wo)`.
+pub const PAIR_COLUMNS: [&str; 6] = ["wi_x", "wi_y", "wi_z", "wo_x", "wo_y", "wo_z"];
+
+/// The value column appended to the table: `f(wi, wo) |wo.z|`.
+pub const VALUE_COLUMN: &str = "f_cos";
+
+/// The standard-error column appended after it for Monte Carlo estimates.
+pub const STDERR_COLUMN: &str = "f_cos_stderr";
+
+/// Largest accepted `| |w| - 1 |`: directions are checked, never silently normalised.
+pub const UNIT_TOLERANCE: f64 = 1e-6;
+
+/// A table of direction pairs: its header and rows as read (trimmed fields), and the pairs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PairTable {
+    pub header: Vec<String>,
+    pub rows: Vec<Vec<String>>,
+    pub pairs: Vec<(Vec3, Vec3)>,
+}
+
+/// Reads a table of direction pairs from `bytes`; `source` names it in errors (`<stdin>` for
+/// standard input). Fails at the first bad field, naming its line and column.
+pub fn read_pairs(source: &Path, bytes: &[u8]) -> Result<PairTable, LoadError> {
+    let err = |line: Option<u64>, column: Option<&str>, kind| LoadError {
+        file: source.to_path_buf(),
+        line,
+        column: column.map(str::to_owned),
+        kind,
+    };
+    let mut records = read_records(source, bytes)?.into_iter();
+    let Some((header_line, header_record)) = records.next() else {
+        return Err(err(Some(1), None, LoadErrorKind::Empty));
+    };
+    let header: Vec<String> = text_fields(source, header_line, &header_record, |i| {
+        format!("header field {}", i + 1)
+    })?
+    .into_iter()
+    .map(str::to_owned)
+    .collect();
+    for out in [VALUE_COLUMN, STDERR_COLUMN] {
+        if header.iter().any(|h| h == out) {
+            return Err(err(Some(header_line), Some(out), LoadErrorKind::Reserved));
+        }
+    }
+    let mut index = [0usize; 6];
+    for (slot, name) in index.iter_mut().zip(PAIR_COLUMNS) {
+        let mut found = header.iter().enumerate().filter(|(_, h)| *h == name);
+        *slot = match (found.next(), found.next()) {
+            (Some((i, _)), None) => i,
+            (None, _) => {
+                return Err(err(
+                    Some(header_line),
+                    Some(name),
+                    LoadErrorKind::MissingColumn {
+                        found: header.join(", "),
+                    },
+                ));
+            }
+            (Some((a, _)), Some((b, _))) => {
+                return Err(err(
+                    Some(header_line),
+                    Some(name),
+                    LoadErrorKind::DuplicateColumn {
+                        first: a + 1,
+                        second: b + 1,
+                    },
+                ));
+            }
+        };
+    }
+    let mut rows = Vec::new();
+    let mut pairs = Vec::new();
+    for (line, record) in records {
+        let fields = text_fields(source, line, &record, |i| {
+            header
+                .get(i)
+                .cloned()
+                .unwrap_or_else(|| format!("extra field {}", i + 1))
+        })?;
+        if fields.len() > header.len() {
+            return Err(err(
+                Some(line),
+                Some(&format!("extra field {}", header.len() + 1)),
+                LoadErrorKind::LongRow {
+                    found: fields.len(),
+                    expected: header.len(),
+                },
+            ));
+        }
+        if fields.len() < header.len() {
+            return Err(err(
+                Some(line),
+                Some(&header[fields.len()]),
+                LoadErrorKind::ShortRow {
+                    found: fields.len(),
+                    expected: header.len(),
+                },
+            ));
+        }
+        let mut v = [0.0; 6];
+        for (k, &i) in index.iter().enumerate() {
+            v[k] = crate::load::parse_finite(fields[i])
+                .map_err(|kind| err(Some(line), Some(&header[i]), kind))?;
+        }
+        let unit = |w: Vec3, name: &str| {
+            let norm = w.norm();
+            if (norm - 1.0).abs() > UNIT_TOLERANCE {
+                Err(err(
+                    Some(line),
+                    Some(name),
+                    LoadErrorKind::NotUnit {
+                        norm,
+                        tolerance: UNIT_TOLERANCE,
+                    },
+                ))
+            } else {
+                Ok(w)
+            }
+        };
+        let wi = unit(Vec3::new(v[0], v[1], v[2]), "wi_x, wi_y, wi_z")?;
+        let wo = unit(Vec3::new(v[3], v[4], v[5]), "wo_x, wo_y, wo_z")?;
+        pairs.push((wi, wo));
+        rows.push(fields.into_iter().map(str::to_owned).collect());
+    }
+    Ok(PairTable {
+        header,
+        rows,
+        pairs,
+    })
+}
+
+impl PairTable {
+    /// Writes the table with the column `f_cos` (`values[j]` for row `j`) appended, and with
+    /// `f_cos_stderr` after it when `stderr` is given (an empty field where a standard error
+    /// is undefined). Numbers are written by [`format_number`].
+    pub fn write_with<W: Write>(
+        &self,
+        out: W,
+        values: &[f64],
+        stderr: Option<&[Option<f64>]>,
+    ) -> io::Result<()> {
+        let mut writer = csv::Writer::from_writer(out);
+        let extra: &[&str] = if stderr.is_some() {
+            &[VALUE_COLUMN, STDERR_COLUMN]
+        } else {
+            &[VALUE_COLUMN]
+        };
+        writer.write_record(
+            self.header
+                .iter()
+                .map(String::as_str)
+                .chain(extra.iter().copied()),
+        )?;
+        for (j, row) in self.rows.iter().enumerate() {
+            let value = format_number(values[j]);
+            let se = stderr.map(|se| se[j].map_or_else(String::new, format_number));
+            writer.write_record(
+                row.iter()
+                    .map(String::as_str)
+                    .chain(std::iter::once(value.as_str()))
+                    .chain(se.as_deref()),
+            )?;
+        }
+        writer.flush()
+    }
+}
+
+/// Shortest text that parses back to exactly `x`: plain decimals for moderate magnitudes,
+/// scientific notation otherwise.
+pub fn format_number(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(text: &str) -> Result<PairTable, LoadError> {
+        read_pairs(Path::new("<stdin>"), text.as_bytes())
+    }
+
+    #[test]
+    fn numbers_round_trip() {
+        for x in [
+            0.0,
+            1.0,
+            0.1,
+            1.234_567_890_123e-7,
+            3.5e20,
+            12345.678,
+            1e-300,
+        ] {
+            assert_eq!(format_number(x).parse::<f64>().unwrap(), x);
+        }
+    }
+
+    /// Columns in any order, extra columns passed through, comments and a BOM skipped.
+    #[test]
+    fn pairs_are_read_in_any_column_order() {
+        let t = read("\u{feff}# made by hand\nid,wo_x,wo_y,wo_z,wi_x,wi_y,wi_z\na,0,0,-1,0,0,1\n")
+            .unwrap();
+        assert_eq!(t.pairs, vec![(Vec3::z(), -Vec3::z())]);
+        assert_eq!(t.rows[0][0], "a");
+        let mut out = Vec::new();
+        t.write_with(&mut out, &[0.5], None).unwrap();
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            "id,wo_x,wo_y,wo_z,wi_x,wi_y,wi_z,f_cos\na,0,0,-1,0,0,1,0.5\n"
+        );
+    }
+
+    /// Errors name the line (comments counted) and the column.
+    #[test]
+    fn errors_name_line_and_column() {
+        let head = "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n";
+        let e = read(&format!("{head}# c\n0,0,1,0,0,x\n")).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "<stdin>:3: column 'wo_z': 'x' is not a number"
+        );
+        let e = read(&format!("{head}0,0,1,0,0.5,-1\n")).unwrap_err();
+        assert_eq!(
+            (e.line, e.column.as_deref()),
+            (Some(2), Some("wo_x, wo_y, wo_z"))
+        );
+        let e = read("wi_x,wi_y,wi_z,wo_x,wo_y\n").unwrap_err();
+        assert_eq!(e.column.as_deref(), Some("wo_z"));
+        assert!(read("").is_err());
+        assert!(read(&format!("{head}0,0,1,0,0\n")).is_err());
+        assert!(read(&format!("{head}0,0,1,0,0,-1,7\n")).is_err());
+        assert!(read("wi_x,wi_y,wi_z,wo_x,wo_y,wo_z,f_cos\n").is_err());
+    }
+}

@@ -1,0 +1,199 @@
+//! What a fit reports, and the versioned file of stored fits (`fits-format.md`).
+//!
+//! A [`FitResult`] carries everything needed to evaluate the fitted model again (its
+//! [`Model`]), how it was fitted and what it was fitted to, so that anything downstream (the
+//! report, export, Python) uses it without being told again.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::data::Measured;
+use crate::model::Model;
+use crate::options::{Loss, Optimizer};
+
+/// The result of fitting one model to one sample (one record of the fits JSON).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitResult {
+    /// The sample's name (empty for a file without a `sample` column).
+    pub sample: String,
+    /// The fitted model: NDF, alpha, gamma, scale, eta, masking, orders, walks and seed (in
+    /// JSON, its keys sit beside the others).
+    #[serde(flatten)]
+    pub model: Model,
+    /// True when eta was held at its value rather than fitted (absent in files written before
+    /// eta could be fitted: true).
+    #[serde(default = "held")]
+    pub eta_fixed: bool,
+    /// True when the scale was held at its value rather than fitted (absent in files written
+    /// before it could be held: false).
+    #[serde(default)]
+    pub scale_fixed: bool,
+    pub loss: Loss,
+    /// The floor of the log loss relative to the sample's largest value (`None` for the other
+    /// losses).
+    #[serde(default)]
+    pub log_floor: Option<f64>,
+    pub optimizer: Optimizer,
+    /// What the fitted points measure: `L`, the BSDF, or both (absent in files written before
+    /// general files: `L`).
+    #[serde(default)]
+    pub measured: Measured,
+    /// Root-mean-square residual of the square root of the measured quantity ([`Self::measured`])
+    /// over the fitted points (weight > 0); the key keeps its stfit 0.1 name.
+    pub rmse_sqrt_l: f64,
+    /// Number of fitted points.
+    pub n_points: usize,
+    /// Standard errors (heteroscedasticity-robust, see [`crate::fit`]); `None` (JSON `null`)
+    /// where undefined: a fixed or absent parameter, or a curvature that does not determine it.
+    pub alpha_stderr: Option<f64>,
+    pub gamma_stderr: Option<f64>,
+    #[serde(default)]
+    pub eta_stderr: Option<f64>,
+    pub scale_stderr: Option<f64>,
+    /// Iterations of the local optimiser, summed over its starts.
+    pub iterations: u64,
+    /// The data file the sample was read from, as given (`None` for data not from a file).
+    pub data: Option<String>,
+    /// The version of stfit that made the fit.
+    pub stfit_version: String,
+}
+
+/// The value of `eta_fixed` in files written before eta could be fitted.
+fn held() -> bool {
+    true
+}
+
+impl FitResult {
+    /// The fit as named in messages: its sample and model, such as
+    /// `sample 'frosted', student-t (gamma = 3)`.
+    pub fn label(&self) -> String {
+        format!("sample '{}', {}", self.sample, self.model.label())
+    }
+}
+
+/// The version of the fits file this stfit writes.
+pub const FITS_VERSION: u32 = 1;
+
+/// A file of stored fits: `{"version": 1, "fits": [FitResult, ...]}` (`fits-format.md`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitsFile {
+    /// The format version, [`FITS_VERSION`].
+    pub version: u32,
+    pub fits: Vec<FitResult>,
+}
+
+/// Why stored fits could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum FitsFileError {
+    #[error("{path}: cannot read: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{0}: not a fits file: {1}")]
+    Json(String, String),
+    #[error(
+        "{0}: the file has no format version: it was written by stfit 0.1, which did not \
+         record eta, masking and orders; fit again to make a file of this version \
+         (stfit DATA --model all --out FILE)"
+    )]
+    Unversioned(String),
+    #[error(
+        "{0}: format version {1} is not one this stfit reads (it reads version {FITS_VERSION})"
+    )]
+    Version(String, u64),
+    #[error("{file}: fit {index} ({label}): {reason}")]
+    InvalidFit {
+        file: String,
+        index: usize,
+        label: String,
+        reason: String,
+    },
+}
+
+impl FitsFile {
+    /// The file of `fits` in the current version.
+    pub fn new(fits: Vec<FitResult>) -> Self {
+        Self {
+            version: FITS_VERSION,
+            fits,
+        }
+    }
+
+    /// The JSON text of the file, pretty-printed, ending in a line break.
+    pub fn to_json(&self) -> String {
+        let mut text =
+            serde_json::to_string_pretty(self).expect("fits are plain data and serialise");
+        text.push('\n');
+        text
+    }
+
+    /// Parses stored fits; `source` names them in errors. Refuses files without a version (made
+    /// by stfit 0.1) or of another version, and fits whose model cannot be evaluated.
+    pub fn from_json(source: &str, text: &str) -> Result<Self, FitsFileError> {
+        let json = |e: serde_json::Error| FitsFileError::Json(source.to_owned(), e.to_string());
+        let value: serde_json::Value = serde_json::from_str(text).map_err(json)?;
+        match value.get("version") {
+            None if value.get("fits").is_some() => {
+                return Err(FitsFileError::Unversioned(source.to_owned()));
+            }
+            Some(v) if v.as_u64() != Some(u64::from(FITS_VERSION)) => {
+                return Err(match v.as_u64() {
+                    Some(n) => FitsFileError::Version(source.to_owned(), n),
+                    None => FitsFileError::Json(
+                        source.to_owned(),
+                        format!("\"version\" must be a number, got {v}"),
+                    ),
+                });
+            }
+            _ => {}
+        }
+        // Parsed from the text itself, not the `Value`, so every number keeps its exact bits.
+        let file: FitsFile = serde_json::from_str(text).map_err(json)?;
+        for (index, fit) in file.fits.iter().enumerate() {
+            fit.model.check().map_err(|e| FitsFileError::InvalidFit {
+                file: source.to_owned(),
+                index,
+                label: fit.label(),
+                reason: e.to_string(),
+            })?;
+        }
+        Ok(file)
+    }
+
+    /// Reads stored fits from `path` ([`FitsFile::from_json`]).
+    pub fn read(path: &Path) -> Result<Self, FitsFileError> {
+        let text = std::fs::read_to_string(path).map_err(|source| FitsFileError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::from_json(&path.display().to_string(), &text)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A version-1 record written before eta and the scale could be fitted or held (no
+    /// `eta_fixed`, `scale_fixed`, `log_floor`, `eta_stderr`) reads as what it was: eta held,
+    /// the scale fitted.
+    #[test]
+    fn records_from_before_free_eta_read_with_eta_held() {
+        let text = r#"{"version": 1, "fits": [{
+            "sample": "s", "model": "ggx", "alpha": 0.2, "gamma": null, "gamma_fixed": false,
+            "scale": 1.5,
+            "eta": 1.51, "masking": "separable", "orders": "single", "walks": null,
+            "seed": null, "loss": "sqrt", "optimizer": "nelder-mead", "rmse_sqrt_l": 0.01,
+            "n_points": 10, "alpha_stderr": 0.001, "gamma_stderr": null,
+            "scale_stderr": 0.01, "iterations": 40, "data": "d.csv", "stfit_version": "0.2.0"
+        }]}"#;
+        let file = FitsFile::from_json("old.json", text).unwrap();
+        let fit = &file.fits[0];
+        assert!(fit.eta_fixed && !fit.scale_fixed);
+        assert_eq!((fit.log_floor, fit.eta_stderr), (None, None));
+        assert_eq!(fit.measured, Measured::L);
+        assert_eq!(fit.model.eta, 1.51);
+    }
+}
