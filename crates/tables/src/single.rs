@@ -47,7 +47,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 use stfit_core::Vec3;
-use stfit_core::bsdf::{Masking, fresnel_dielectric, reflect, refract};
+use stfit_core::bsdf::{Masking, SmithTerm, fresnel_dielectric, reflect, refract};
 use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
 use stfit_core::quadrature::GaussLegendre;
 use stfit_core::walk::ConductorFacet;
@@ -126,6 +126,16 @@ impl TableMasking {
         }
     }
 
+    /// The Smith term of a direction with `a = 1 + Lambda`, as [`TableMasking::g_transmission`]
+    /// needs it (with the log-gamma of the Beta function only for `Correlated`).
+    #[inline]
+    fn term(self, a: f64) -> SmithTerm {
+        match self {
+            Self::Correlated => Masking::Correlated.term(a),
+            Self::ReflectionForm | Self::Separable => Masking::Separable.term(a),
+        }
+    }
+
     /// `G` of the reflected lobe from `a = 1 + Lambda` of both directions.
     #[inline]
     fn g_reflection(self, a_i: f64, a_o: f64) -> f64 {
@@ -135,13 +145,14 @@ impl TableMasking {
         }
     }
 
-    /// `G` of the transmitted lobe from `a = 1 + Lambda` of both directions.
+    /// `G` of the transmitted lobe from the [`TableMasking::term`] of the light's direction
+    /// and `a = 1 + Lambda` of the outgoing one.
     #[inline]
-    fn g_transmission(self, a_i: f64, a_o: f64) -> f64 {
+    fn g_transmission(self, i: SmithTerm, a_o: f64) -> f64 {
         match self {
-            Self::Separable => Masking::Separable.g_transmission(a_i, a_o),
-            Self::Correlated => Masking::Correlated.g_transmission(a_i, a_o),
-            Self::ReflectionForm => Masking::Correlated.g_reflection(a_i, a_o),
+            Self::Separable => Masking::Separable.g(false, i, self.term(a_o)),
+            Self::Correlated => Masking::Correlated.g(false, i, self.term(a_o)),
+            Self::ReflectionForm => Masking::Correlated.g_reflection(i.a(), a_o),
         }
     }
 }
@@ -505,8 +516,9 @@ struct Cell<'a, N> {
     interface: Interface,
     masking: TableMasking,
     wi: Vec3,
-    /// `1 + Lambda(wi)`.
+    /// `1 + Lambda(wi)`, and its Smith term for the transmitted lobe.
     a_i: f64,
+    term_i: SmithTerm,
     alpha: f64,
     /// Power of the substitution on the piece that reaches horizontal facets.
     tail_power: i32,
@@ -522,12 +534,14 @@ impl<'a, N: TableNdf> Cell<'a, N> {
             Some(k) => (2.0 / k).ceil().clamp(1.0, 64.0) as i32,
             None => 1,
         };
+        let a_i = ndf.sigma(wi) / mu;
         Self {
             ndf,
             interface,
             masking,
             wi,
-            a_i: ndf.sigma(wi) / mu,
+            a_i,
+            term_i: masking.term(a_i),
             alpha: ndf.alpha(),
             tail_power,
         }
@@ -711,7 +725,7 @@ impl<'a, N: TableNdf> Cell<'a, N> {
             match refract(wi, h, eta_rel) {
                 Some(wo) if f < 1.0 && wo.z < 0.0 => {
                     out.transmitted =
-                        m * (1.0 - f) * self.masking.g_transmission(self.a_i, a_o(wo));
+                        m * (1.0 - f) * self.masking.g_transmission(self.term_i, a_o(wo));
                 }
                 _ => {}
             }
