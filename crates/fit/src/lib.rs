@@ -14,7 +14,7 @@ pub mod fit;
 pub mod load;
 pub mod model;
 pub mod objective;
-mod optimize;
+pub mod optimize;
 pub mod synth;
 
 pub use data::{Dataset, Measurement, Sample};
