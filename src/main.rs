@@ -40,6 +40,9 @@ enum Command {
     /// Figure-1-style plots (SVG and PNG) of the four model fits of every sample, an overview,
     /// residuals, the fitted NDFs and a markdown table of the fits.
     Report(cmd::report::ReportArgs),
+    /// Write stored fits as renderer materials (Mitsuba 3, pbrt-v4, Cycles, appleseed,
+    /// OpenPBR) or as an LBNL WINDOW BSDF file for Radiance.
+    Export(cmd::export::Args),
 }
 
 fn main() -> ExitCode {
@@ -50,6 +53,7 @@ fn main() -> ExitCode {
         Some(Command::Eval(args)) => cmd::eval::run(&args),
         Some(Command::Albedo(args)) => cmd::albedo::run(&args),
         Some(Command::Report(args)) => cmd::report::run(args),
+        Some(Command::Export(args)) => cmd::export::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

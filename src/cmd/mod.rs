@@ -11,6 +11,7 @@ use stfit_fit::LoadError;
 
 pub mod albedo;
 pub mod eval;
+pub mod export;
 pub mod fit;
 pub mod report;
 pub mod surface;
