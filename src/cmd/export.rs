@@ -34,7 +34,7 @@ pub struct Args {
     #[arg(long, value_enum)]
     pub model: Option<ModelArg>,
     /// Output file (several fits go into one file, except for radiance), or an existing folder
-    /// (one file per fit, named after sample and model). Default: stdout.
+    /// (one file per fit, named SAMPLE_MODEL-TARGET.EXT). Default: stdout.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// radiance: a pane (the rough face over a smooth back face, with all inter-reflections)
@@ -166,7 +166,7 @@ pub fn run(args: &Args) -> CmdResult {
         match folder {
             Some(dir) => {
                 for f in &export.files {
-                    let path = dir.join(format!("{}.{}", fit.id, f.extension));
+                    let path = dir.join(format!("{}-{}.{}", fit.id, target.name(), f.extension));
                     write_file(&path, &f.text)?;
                     println!("{}", path.display());
                 }
