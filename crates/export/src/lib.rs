@@ -1,0 +1,29 @@
+//! stfit-export: from a fitted microfacet model to what renderers and daylighting tools read.
+//!
+//! - [`ExportModel`] is the fitted model to export (NDF, eta, masking, scattering orders, the
+//!   fit's calibration scale and a description of the source fit).
+//! - [`targets`]: one module per renderer, each writing that renderer's own material
+//!   parameterisation with a comment stating the source fit and the error of the translation.
+//!   Where the renderer's BSDF cannot represent the fit exactly, the renderer's BSDF (implemented
+//!   here after its source, [`target`]) is fitted to the fitted BSDF over the sphere of
+//!   directions with stfit's own optimiser ([`translate`]).
+//! - [`radiance`]: an LBNL WINDOW BSDF XML file (Klems full basis) of a pane or of the single
+//!   rough interface, the format Radiance and WINDOW read for glazing.
+//!
+//! Conventions are those of stfit-core: z is the macro-normal, the outside (index 1) is z > 0,
+//! directions point away from the surface, `wi` toward the light; `f_cos(wi, wo) = f |wo.z|`
+//! with no radiance `1/eta^2` scaling. For light `wi` this is the physical BSDF of the radiance
+//! equation (the same function as pbrt-v4's radiance-mode `f(wo = view, wi = light)` and
+//! Mitsuba 3's importance-mode `eval(wi = light, wo)`), so it compares with renderers directly.
+
+pub mod directions;
+pub mod error;
+pub mod model;
+pub mod radiance;
+pub mod target;
+pub mod targets;
+pub mod translate;
+
+pub use error::ExportError;
+pub use model::ExportModel;
+pub use targets::{Export, Target};
