@@ -38,6 +38,12 @@ impl GaussLegendre {
         Self { nodes, weights }
     }
 
+    /// The nodes and weights `(x_k, w_k)` on [-1, 1], in increasing order of `x`, for callers
+    /// that build product rules of their own.
+    pub fn nodes(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.nodes.iter().copied().zip(self.weights.iter().copied())
+    }
+
     /// `integral_a^b f(x) dx` by this rule mapped to [a, b].
     pub fn integrate(&self, a: f64, b: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
         let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
@@ -99,6 +105,15 @@ mod tests {
         let got = rule.integrate(-1.0, 2.0, |x| x.powi(15) - 3.0 * x.powi(4) + 1.0);
         let want = (2f64.powi(16) - 1.0) / 16.0 - 3.0 * (32.0 + 1.0) / 5.0 + 3.0;
         assert!((got - want).abs() < 1e-10 * want.abs(), "{got} vs {want}");
+    }
+
+    /// The nodes are the rule's own: a sum over them reproduces `integrate`.
+    #[test]
+    fn nodes_reproduce_the_rule() {
+        let gl = GaussLegendre::new(7);
+        let by_nodes: f64 = gl.nodes().map(|(x, w)| w * (x * 3.0).exp()).sum();
+        assert!((by_nodes - gl.integrate(-1.0, 1.0, |x| (x * 3.0).exp())).abs() < 1e-15);
+        assert!(gl.nodes().zip(gl.nodes().skip(1)).all(|(a, b)| a.0 < b.0));
     }
 
     #[test]
