@@ -43,7 +43,7 @@ enum Command {
     /// residuals, the fitted NDFs and a markdown table of the fits.
     Report(cmd::report::ReportArgs),
     /// Write stored fits as renderer materials (Mitsuba 3, pbrt-v4, Cycles, appleseed,
-    /// OpenPBR) or as an LBNL WINDOW BSDF file for Radiance.
+    /// OpenPBR, V-Ray) or as an LBNL WINDOW BSDF file for Radiance.
     Export(cmd::export::Args),
 }
 

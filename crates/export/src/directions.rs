@@ -53,12 +53,12 @@ impl SphereSet {
                 incidences.push(Vec3::new(-t.sin(), 0.0, side * t.cos()));
             }
         }
-        let gl = gl_nodes(&GaussLegendre::new(n_theta));
+        let gl = GaussLegendre::new(n_theta);
         let (mut outgoing, mut weights) = (Vec::new(), Vec::new());
         let dphi = std::f64::consts::PI / n_phi as f64;
         let half = 0.25 * std::f64::consts::PI;
         for side in [1.0, -1.0] {
-            for &(x, w) in &gl {
+            for (x, w) in gl.nodes() {
                 // theta on (0, pi/2) from this hemisphere's pole.
                 let theta = half * (1.0 + x);
                 let (s, c) = theta.sin_cos();
@@ -78,32 +78,19 @@ impl SphereSet {
     }
 }
 
-/// The nodes and weights of a Gauss-Legendre rule on [-1, 1], read through its `integrate`
-/// (which is linear in the integrand): the nodes are where it evaluates, and the weight of a
-/// node is the integral of the indicator of that node.
-fn gl_nodes(gl: &GaussLegendre) -> Vec<(f64, f64)> {
-    let mut nodes = Vec::new();
-    gl.integrate(-1.0, 1.0, |x| {
-        nodes.push(x);
-        0.0
-    });
-    nodes
-        .iter()
-        .map(|&x| {
-            (
-                x,
-                gl.integrate(-1.0, 1.0, |y| if y == x { 1.0 } else { 0.0 }),
-            )
-        })
-        .collect()
+/// The fit's `L` per unit BSDF value for the pair, `|wi.z| (n_i / n_o)^2`: for light from air
+/// into the glass exactly the measured `cos(theta_i) / eta^2` (theory section 8), extended to
+/// every pair of directions.
+pub fn l_per_bsdf(wi: Vec3, wo: Vec3, eta: f64) -> f64 {
+    let n = |w: Vec3| if w.z > 0.0 { 1.0 } else { eta };
+    let r = n(wi) / n(wo);
+    wi.z.abs() * r * r
 }
 
-/// The fit's `L` for a value `f_cos(wi, wo)`: `scale f |wi.z| (n_i/n_o)^2`.
+/// The fit's `L` for a value `f_cos(wi, wo)`: `scale f l_per_bsdf` with `f = f_cos / |wo.z|`.
 pub fn l_of(f_cos: f64, wi: Vec3, wo: Vec3, eta: f64, scale: f64) -> f64 {
     if wo.z == 0.0 {
         return 0.0;
     }
-    let n = |w: Vec3| if w.z > 0.0 { 1.0 } else { eta };
-    let r = n(wi) / n(wo);
-    scale * f_cos / wo.z.abs() * wi.z.abs() * r * r
+    scale * f_cos / wo.z.abs() * l_per_bsdf(wi, wo, eta)
 }

@@ -1,12 +1,13 @@
 //! stfit-export: from a fitted microfacet model to what renderers and daylighting tools read.
 //!
-//! - [`ExportModel`] is the fitted model to export (NDF, eta, masking, scattering orders, the
-//!   fit's calibration scale and a description of the source fit).
-//! - [`targets`]: one module per renderer, each writing that renderer's own material
-//!   parameterisation with a comment stating the source fit and the error of the translation.
-//!   Where the renderer's BSDF cannot represent the fit exactly, the renderer's BSDF (implemented
-//!   here after its source, [`target`]) is fitted to the fitted BSDF over the sphere of
-//!   directions with stfit's own optimiser ([`translate`]).
+//! - [`ExportModel`] is a stored fit's model to export ([`ExportModel::from_fit`]): the fit
+//!   carries everything needed to evaluate it again (NDF, eta, masking, orders, walks).
+//! - [`targets`]: one module per renderer (Mitsuba 3, pbrt-v4, Cycles, appleseed, OpenPBR,
+//!   V-Ray), each writing that renderer's own material parameterisation with a comment stating
+//!   the source fit and the error of the translation. Where the renderer's BSDF cannot
+//!   represent the fit exactly, the renderer's BSDF (implemented here after its source,
+//!   [`target`], [`gtr`]) is fitted to the fitted BSDF over the sphere of directions with
+//!   stfit's own optimiser ([`translate`]).
 //! - [`radiance`]: an LBNL WINDOW BSDF XML file (Klems full basis) of a pane or of the single
 //!   rough interface, the format Radiance and WINDOW read for glazing.
 //!
@@ -18,6 +19,7 @@
 
 pub mod directions;
 pub mod error;
+pub mod gtr;
 pub mod model;
 pub mod radiance;
 pub mod target;
@@ -26,4 +28,31 @@ pub mod translate;
 
 pub use error::ExportError;
 pub use model::ExportModel;
-pub use targets::{Export, Target};
+pub use targets::{Export, ExportFile, Selection, Target, file_name, fit_identifier, join};
+
+use stfit_fit::FitResult;
+
+use radiance::RadianceOptions;
+
+/// Exports a stored fit to `target`, the material named by [`fit_identifier`]; `radiance`
+/// holds the options of [`Target::Radiance`] (ignored by the other targets).
+pub fn export_fit(
+    fit: &FitResult,
+    target: Target,
+    radiance: &RadianceOptions,
+) -> Result<Export, ExportError> {
+    let model = ExportModel::from_fit(fit)?;
+    let id = fit_identifier(fit);
+    if target != Target::Radiance {
+        return targets::export(target, &model, &id);
+    }
+    let (text, _) = radiance::export(&model, radiance, &id)?;
+    Ok(Export {
+        files: vec![ExportFile {
+            extension: "xml",
+            text,
+        }],
+        warnings: Vec::new(),
+        translation: None,
+    })
+}

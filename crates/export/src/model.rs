@@ -1,139 +1,154 @@
-//! The fitted model to export.
+//! The fitted model to export: a stored fit's [`Model`] (which carries everything needed to
+//! evaluate it again) and a description of where it came from, for file comments.
 
 use stfit_core::Vec3;
-use stfit_core::bsdf::{Masking, RoughDielectric};
-use stfit_core::error::{check_eta, finite};
-use stfit_core::ndf::{AnyNdf, Ndf};
+use stfit_core::bsdf::RoughDielectric;
+use stfit_core::ndf::AnyNdf;
 use stfit_core::walk::{DielectricFacet, Microsurface, ScatteringOrders};
+use stfit_fit::forward::Forward;
+use stfit_fit::{FitResult, Gamma, Model};
 
 use crate::ExportError;
 
-/// Random walks per incidence direction used to evaluate an all-orders model's orders >= 2
-/// when nothing else is given (the fit command's default).
-pub const DEFAULT_WALKS: u64 = 20_000;
-
-/// A fitted rough-dielectric model, everything needed to evaluate it again.
-///
-/// The lead's `FitResult` will carry all of this; `From<&FitResult>` belongs beside it.
+/// A fitted rough-dielectric model ready to export.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ExportModel {
-    /// The fitted NDF (Beckmann, GGX or Student-T with its alpha and gamma).
-    pub ndf: AnyNdf,
-    /// Relative index of the glass, `n_inside / n_outside`.
-    pub eta: f64,
-    /// Smith masking of the single-scattering model. An all-orders model is height-correlated
-    /// by construction (the random walk's order 1) and ignores it.
-    pub masking: Masking,
-    /// `Single` (Walter et al. 2007) or `All` (the height-correlated single-scattering BSDF
-    /// plus the random walk's orders >= 2).
-    pub orders: ScatteringOrders,
-    /// The fit's calibration factor: the measured `L` is `scale` times the model's. It is not
-    /// part of the physical BSDF and no export applies it; translations are measured in the
-    /// fit's units `sqrt(L)`, which include it.
-    pub scale: f64,
-    /// Random walks per incidence direction and their seed, for the orders >= 2 of an
-    /// all-orders model.
-    pub walks: u64,
-    pub seed: u64,
+    /// The fitted model: NDF, alpha, gamma, the fit's calibration scale, eta, masking, orders,
+    /// walks and seed. The scale is not part of the physical BSDF and no export applies it;
+    /// translations are measured in the fit's units `sqrt(L)`, which include it.
+    pub model: Model,
+    ndf: AnyNdf,
     /// What was fitted to what: sample, model, fit quality, data file, stfit version.
     pub source: String,
 }
 
 impl ExportModel {
-    /// A model to export; refuses `ScatteringOrders::Multiple` (orders >= 2 alone are no
-    /// fitted model), an invalid eta and a non-finite or non-positive scale.
-    pub fn new(
-        ndf: AnyNdf,
-        eta: f64,
-        masking: Masking,
-        orders: ScatteringOrders,
-        scale: f64,
-        source: impl Into<String>,
-    ) -> Result<Self, ExportError> {
-        check_eta(eta)?;
-        let scale = finite("scale", scale)?;
-        if scale <= 0.0 {
-            return Err(ExportError::Unsupported(format!(
-                "the fit's scale must be > 0, got {scale}"
-            )));
-        }
-        if orders == ScatteringOrders::Multiple {
-            return Err(ExportError::Unsupported(
-                "a fitted model has orders `single` or `all`, not `multiple`".into(),
-            ));
-        }
+    /// The model of a stored fit, described by the fit's sample, model, rmse, data file and
+    /// stfit version.
+    pub fn from_fit(fit: &FitResult) -> Result<Self, ExportError> {
+        let data = fit.data.as_deref().unwrap_or("data not from a file");
+        let source = format!(
+            "{}, rmse sqrt(L) {:.4} over {} points of {data}, fitted by stfit {}",
+            fit.label(),
+            fit.rmse_sqrt_l,
+            fit.n_points,
+            fit.stfit_version
+        );
+        Self::new(fit.model, source)
+    }
+
+    /// `model` to export, described by `source`; refuses a model that cannot be evaluated
+    /// ([`Model::check`]).
+    pub fn new(model: Model, source: impl Into<String>) -> Result<Self, ExportError> {
+        model.check()?;
         Ok(Self {
-            ndf,
-            eta,
-            masking,
-            orders,
-            scale,
-            walks: DEFAULT_WALKS,
-            seed: 1,
+            ndf: model.ndf()?,
+            model,
             source: source.into(),
         })
     }
 
-    /// The NDF family's name as stfit writes it.
-    pub fn ndf_name(&self) -> &'static str {
-        match self.ndf {
-            AnyNdf::Beckmann(_) => "beckmann",
-            AnyNdf::Ggx(_) => "ggx",
-            AnyNdf::StudentT(_) => "student-t",
-        }
+    /// The fitted NDF.
+    pub fn ndf(&self) -> AnyNdf {
+        self.ndf
     }
 
-    /// The masking of the single-scattering term actually used: the model's for single
-    /// scattering, height-correlated for all orders.
-    pub fn single_masking(&self) -> Masking {
-        match self.orders {
-            ScatteringOrders::Single => self.masking,
-            _ => Masking::Correlated,
-        }
+    /// Relative index of the glass, `n_inside / n_outside`.
+    pub fn eta(&self) -> f64 {
+        self.model.eta
     }
 
-    /// The analytic single-scattering BSDF of the model.
+    /// The fit's calibration factor (measured `L` = scale times the model's).
+    pub fn scale(&self) -> f64 {
+        self.model.scale
+    }
+
+    /// The roughness alpha.
+    pub fn alpha(&self) -> f64 {
+        self.model.alpha
+    }
+
+    /// The Student-T shape, `None` for Beckmann and GGX.
+    pub fn gamma(&self) -> Option<f64> {
+        self.model.gamma.value()
+    }
+
+    /// The model in one line for comments: `student-t alpha 0.2 gamma 3 (free), eta 1.51,
+    /// separable masking, orders single`.
+    pub fn describe(&self) -> String {
+        let m = &self.model;
+        let gamma = match m.gamma {
+            Gamma::NotApplicable => String::new(),
+            Gamma::Fixed(g) => format!(" gamma {g} (held fixed)"),
+            Gamma::Free(g) => format!(" gamma {g}"),
+        };
+        let walks = match (m.walks, m.seed) {
+            (Some(w), Some(s)) => format!(" ({w} walks per incidence direction, seed {s})"),
+            _ => String::new(),
+        };
+        format!(
+            "{} alpha {}{gamma}, eta {}, {} masking, orders {}{walks}",
+            m.kind.name(),
+            m.alpha,
+            m.eta,
+            m.masking.name(),
+            m.orders.name()
+        )
+    }
+
+    /// The analytic single-scattering BSDF of the model with its masking (height-correlated for
+    /// an all-orders model: the random walk's order 1).
     pub fn single(&self) -> RoughDielectric<AnyNdf> {
-        RoughDielectric::new(self.ndf, self.eta, self.single_masking())
-            .expect("eta was checked in ExportModel::new")
+        RoughDielectric::new(self.ndf, self.model.eta, self.model.masking)
+            .expect("the model was checked")
     }
 
     /// The microsurface of the model's NDF with dielectric facets (random walk), restricted to
     /// `orders`.
     pub fn microsurface(&self, orders: ScatteringOrders) -> Microsurface<AnyNdf, DielectricFacet> {
-        let facet = DielectricFacet::new(self.eta).expect("eta was checked in ExportModel::new");
+        let facet = DielectricFacet::new(self.model.eta).expect("the model was checked");
         Microsurface::new(self.ndf, facet).with_orders(orders)
     }
 
-    /// `f_cos(wi, wo)` of the fitted model for every `wo` of `wos`: the analytic single
-    /// scattering BSDF, plus for an all-orders model the orders >= 2 estimated from
-    /// [`ExportModel::walks`] walks from `wi` (seed [`ExportModel::seed`]).
-    pub fn f_cos_many(&self, wi: Vec3, wos: &[Vec3]) -> Vec<f64> {
-        let single = self.single();
-        let mut out: Vec<f64> = wos.iter().map(|&wo| single.f_cos(wi, wo)).collect();
-        if self.orders == ScatteringOrders::All {
-            let multi = self.microsurface(ScatteringOrders::Multiple);
-            let est = multi.eval_many(wi, wos, self.walks, self.seed);
-            for (o, e) in out.iter_mut().zip(est) {
-                *o += e.mean;
-            }
-        }
-        out
+    /// The fitted model's value `q_j f(wi_j, wo_j)` at every pair, by the library's forward
+    /// model (the one the fit used: for all orders, its walks and seed); `f` is the BSDF and
+    /// `q_j` the quantity per unit BSDF value.
+    pub fn forward_values(
+        &self,
+        pairs: &[(Vec3, Vec3)],
+        q: Vec<f64>,
+    ) -> Result<Vec<f64>, ExportError> {
+        let m = &self.model;
+        let forward = Forward::new(
+            pairs,
+            q,
+            m.eta,
+            m.masking,
+            m.orders,
+            m.walks.unwrap_or(0),
+            m.seed.unwrap_or(0),
+        )?;
+        let mut out = Vec::with_capacity(pairs.len());
+        forward.unit_model(&self.ndf, &mut out)?;
+        Ok(out)
     }
+}
 
-    /// The roughness alpha of the fitted NDF.
-    pub fn alpha(&self) -> f64 {
-        self.ndf.alpha()
-    }
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use stfit_fit::ModelKind;
 
-    /// The Student-T shape gamma, `None` for Beckmann and GGX.
-    pub fn gamma(&self) -> Option<f64> {
-        self.ndf.gamma()
-    }
-
-    /// Smith `Lambda` of the fitted NDF toward `w` (either side), `Lambda(upper(w))`.
-    pub fn lambda(&self, w: Vec3) -> f64 {
-        let up = if w.z < 0.0 { -w } else { w };
-        self.ndf.lambda(up)
+    /// A model that cannot be evaluated is refused with the library's reason.
+    #[test]
+    fn invalid_models_are_refused() {
+        let bad = Model::single(ModelKind::Ggx, -0.1, Gamma::NotApplicable, 1.0);
+        assert!(ExportModel::new(bad, "x").is_err());
+        let bad = Model {
+            orders: ScatteringOrders::All,
+            ..Model::single(ModelKind::Ggx, 0.3, Gamma::NotApplicable, 1.0)
+        };
+        let e = ExportModel::new(bad, "x").unwrap_err().to_string();
+        assert!(e.contains("correlated"), "{e}");
     }
 }

@@ -12,10 +12,10 @@
 use rayon::prelude::*;
 use stfit_core::Vec3;
 use stfit_fit::Optimizer;
-use stfit_fit::model::{wi_from_deg, wo_from_deg};
+use stfit_fit::conventions::pair_from_deg;
 use stfit_fit::optimize::minimize;
 
-use crate::directions::{SphereSet, l_of};
+use crate::directions::{SphereSet, l_of, l_per_bsdf};
 use crate::target::Scatter;
 use crate::{ExportError, ExportModel};
 
@@ -32,33 +32,41 @@ pub struct Reference {
 }
 
 impl Reference {
-    /// The fitted model's values over `set`.
-    pub fn new(model: &ExportModel, set: SphereSet) -> Self {
-        let sqrt_l: Vec<Vec<f64>> = set
+    /// The fitted model's values over `set`, by the library's forward model (for an all-orders
+    /// fit, with the fit's own walks and seed).
+    pub fn new(model: &ExportModel, set: SphereSet) -> Result<Self, ExportError> {
+        let eta = model.eta();
+        let pairs: Vec<(Vec3, Vec3)> = set
             .incidences
-            .par_iter()
-            .map(|&wi| {
-                model
-                    .f_cos_many(wi, &set.outgoing)
-                    .iter()
-                    .zip(&set.outgoing)
-                    .map(|(&f, &wo)| l_of(f, wi, wo, model.eta, model.scale).max(0.0).sqrt())
+            .iter()
+            .flat_map(|&wi| set.outgoing.iter().map(move |&wo| (wi, wo)))
+            .collect();
+        let q = pairs
+            .iter()
+            .map(|&(wi, wo)| l_per_bsdf(wi, wo, eta))
+            .collect();
+        let values = model.forward_values(&pairs, q)?;
+        let sqrt_l = values
+            .chunks(set.outgoing.len())
+            .map(|row| {
+                row.iter()
+                    .map(|&v| (model.scale() * v).max(0.0).sqrt())
                     .collect()
             })
             .collect();
         let mut r = Self {
             set,
-            eta: model.eta,
-            scale: model.scale,
+            eta,
+            scale: model.scale(),
             sqrt_l,
             energy: 1.0,
         };
         r.energy = r.mean_square(|_, _| 0.0).max(f64::MIN_POSITIVE);
-        r
+        Ok(r)
     }
 
     /// The fitted model's values over the standard set.
-    pub fn standard(model: &ExportModel) -> Self {
+    pub fn standard(model: &ExportModel) -> Result<Self, ExportError> {
         Self::new(model, SphereSet::standard())
     }
 
@@ -181,28 +189,23 @@ pub fn measured_grid() -> Vec<(f64, f64)> {
 }
 
 /// rmse of `sqrt(L)` between `target` and the fitted model over `grid` (`(theta_i,
-/// theta_o)` in degrees, data convention).
-pub fn grid_rmse(model: &ExportModel, target: &impl Scatter, grid: &[(f64, f64)]) -> f64 {
-    let mut s = 0.0;
-    let mut by_incidence: Vec<(f64, Vec<Vec3>)> = Vec::new();
-    for &(ti, to) in grid {
-        match by_incidence.iter_mut().find(|(t, _)| *t == ti) {
-            Some((_, wos)) => wos.push(wo_from_deg(to)),
-            None => by_incidence.push((ti, vec![wo_from_deg(to)])),
-        }
-    }
-    for (ti, wos) in &by_incidence {
-        let wi = wi_from_deg(*ti);
-        let src = model.f_cos_many(wi, wos);
-        for (&wo, &f) in wos.iter().zip(&src) {
-            let a = l_of(f, wi, wo, model.eta, model.scale).max(0.0).sqrt();
-            let b = l_of(target.f_cos(wi, wo), wi, wo, model.eta, model.scale)
-                .max(0.0)
-                .sqrt();
-            s += (a - b) * (a - b);
-        }
-    }
-    (s / grid.len().max(1) as f64).sqrt()
+/// theta_o)` in degrees, data convention), the fitted model by [`stfit_fit::Model::predict`].
+pub fn grid_rmse(
+    model: &ExportModel,
+    target: &impl Scatter,
+    grid: &[(f64, f64)],
+) -> Result<f64, ExportError> {
+    let fitted = model.model.predict(grid)?;
+    let s: f64 = grid
+        .iter()
+        .zip(&fitted)
+        .map(|(&(ti, to), &l)| {
+            let (wi, wo) = pair_from_deg(ti, to);
+            let t = l_of(target.f_cos(wi, wo), wi, wo, model.eta(), model.scale());
+            (l.max(0.0).sqrt() - t.max(0.0).sqrt()).powi(2)
+        })
+        .sum();
+    Ok((s / grid.len().max(1) as f64).sqrt())
 }
 
 /// Sensitivity of each parameter at `p` (see the module docs).
@@ -248,7 +251,7 @@ pub fn evaluate<F: Family>(
     Ok(Translation {
         params: sensitivity(family, reference, p, rmse * rmse)?,
         rmse,
-        rmse_measured_grid: grid_rmse(model, &bsdf, &measured_grid()),
+        rmse_measured_grid: grid_rmse(model, &bsdf, &measured_grid())?,
         exact_ndf: true,
         iterations: 0,
     })
@@ -289,7 +292,7 @@ pub fn fit<F: Family>(
     Ok(Translation {
         params: sensitivity(family, reference, &p, rmse * rmse)?,
         rmse,
-        rmse_measured_grid: grid_rmse(model, &bsdf, &measured_grid()),
+        rmse_measured_grid: grid_rmse(model, &bsdf, &measured_grid())?,
         exact_ndf: false,
         iterations,
     })

@@ -1,57 +1,61 @@
-//! Round trip through a renderer: a Student-T fit translated to GGX (over the sphere of
+//! Round trips through a renderer: a Student-T fit translated to GGX (over the sphere of
 //! directions, not by a formula) explains the original measurements within 10% of the rmse of
 //! a GGX fitted to them directly. Runs on the synthetic example data (fits/example.csv) and,
-//! when the shared folder is present, on the Walter et al. 2007 measurements.
+//! when the shared folder is present, on the Walter et al. 2007 measurements. The V-Ray (GTR)
+//! translation of the same fit is measured beside it.
 
-use std::path::PathBuf;
-
-use stfit_core::bsdf::Masking;
-use stfit_core::walk::ScatteringOrders;
+use stfit_core::Vec3;
 use stfit_export::ExportModel;
-use stfit_export::target::Smith;
+use stfit_export::directions::l_of;
+use stfit_export::target::{Scatter, Smith};
+use stfit_export::targets::vray::VRayGlass;
+use stfit_export::targets::vray::translation as vray_translation;
 use stfit_export::targets::{AlphaMap, Family1, Microfacet};
-use stfit_export::translate::{Reference, fit};
-use stfit_fit::{Dataset, FitOptions, ModelKind, ModelParams, ModelSpec, fit_sample};
+use stfit_export::translate::{Family, Reference, fit};
+use stfit_fit::conventions::pair_from_deg;
+use stfit_fit::{
+    Dataset, FitOptions, Gamma, Model, ModelKind, ModelSpec, Sample, fit_sample, load_path,
+};
+use stfit_test_support::{project_root, walter_measurements};
 
-fn shared_dir() -> PathBuf {
-    std::env::var_os("STFIT_SHARED").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared"),
-        PathBuf::from,
-    )
+/// The usable points of a sample: `(theta_i, theta_o)` and the measured `L`.
+fn points(sample: &Sample) -> (Vec<(f64, f64)>, Vec<f64>) {
+    sample
+        .points
+        .iter()
+        .filter(|p| p.weight > 0.0)
+        .map(|p| ((p.theta_i_deg, p.theta_o_deg), p.l))
+        .unzip()
 }
 
-/// rmse of `sqrt(L)` of a model against a sample's usable points.
-fn rmse(params: &ModelParams, sample: &stfit_fit::Sample, opts: &FitOptions) -> f64 {
-    let pts: Vec<_> = sample.points.iter().filter(|p| p.weight > 0.0).collect();
-    let angles: Vec<(f64, f64)> = pts.iter().map(|p| (p.theta_i_deg, p.theta_o_deg)).collect();
-    let l = params
-        .l_single_batch(&angles, opts.eta, opts.masking)
-        .unwrap();
-    let s: f64 = pts
+/// rmse of `sqrt(L)` of model values against measured ones.
+fn rmse(model: &[f64], measured: &[f64]) -> f64 {
+    let s: f64 = model
         .iter()
-        .zip(&l)
-        .map(|(p, &m)| (p.l.max(0.0).sqrt() - m.sqrt()).powi(2))
+        .zip(measured)
+        .map(|(m, l)| (l.max(0.0).sqrt() - m.max(0.0).sqrt()).powi(2))
         .sum();
-    (s / pts.len() as f64).sqrt()
+    (s / measured.len() as f64).sqrt()
+}
+
+/// `L` of a renderer BSDF at the measured configurations, with the fit's scale and eta.
+fn target_l(target: &impl Scatter, angles: &[(f64, f64)], eta: f64, scale: f64) -> Vec<f64> {
+    angles
+        .iter()
+        .map(|&(ti, to)| {
+            let (wi, wo): (Vec3, Vec3) = pair_from_deg(ti, to);
+            l_of(target.f_cos(wi, wo), wi, wo, eta, scale)
+        })
+        .collect()
 }
 
 fn check(data: &Dataset) {
     let opts = FitOptions::default();
     for sample in &data.samples {
-        let spec = |kind, gamma_fixed| ModelSpec { kind, gamma_fixed };
-        let direct = fit_sample(sample, spec(ModelKind::Ggx, None), &opts).unwrap();
-        let st = fit_sample(sample, spec(ModelKind::StudentT, None), &opts).unwrap();
-        let model = ExportModel::new(
-            stfit_core::ndf::StudentT::new(st.alpha, st.gamma.unwrap())
-                .unwrap()
-                .into(),
-            opts.eta,
-            Masking::Separable,
-            ScatteringOrders::Single,
-            st.scale,
-            "round trip",
-        )
-        .unwrap();
+        let direct = fit_sample(sample, ModelSpec::ggx(), &opts).unwrap();
+        let st = fit_sample(sample, ModelSpec::student_t(), &opts).unwrap();
+        let model = ExportModel::from_fit(&st).unwrap();
+        let reference = Reference::standard(&model).unwrap();
         let ggx = Microfacet {
             ndf: Family1::Ggx,
             eta: opts.eta,
@@ -60,28 +64,44 @@ fn check(data: &Dataset) {
             name: "alpha",
             max_param: 10.0,
         };
-        let t = fit(&ggx, &model, &Reference::standard(&model)).unwrap();
+        let t = fit(&ggx, &model, &reference).unwrap();
         let alpha = t.params[0].value;
         // The renderer gets alpha only; the calibration scale is the Student-T fit's.
-        let translated = ModelParams {
+        let translated = Model {
             kind: ModelKind::Ggx,
             alpha,
-            gamma: f64::NAN,
-            scale: st.scale,
+            gamma: Gamma::NotApplicable,
+            ..st.model
         };
-        let r = rmse(&translated, sample, &opts);
+        let (angles, measured) = points(sample);
+        let r = rmse(&translated.predict(&angles).unwrap(), &measured);
+        let mut warnings = Vec::new();
+        let v = vray_translation(&model, &reference, &mut warnings).unwrap();
+        let p: Vec<f64> = v.params.iter().map(|p| p.value).collect();
+        let family = VRayGlass {
+            eta: opts.eta,
+            starts: [(0.5, 2.0); 2],
+        };
+        let gtr = family.build(&p).unwrap();
+        let r_vray = rmse(
+            &target_l(&gtr, &angles, opts.eta, st.model.scale),
+            &measured,
+        );
         println!(
-            "{} {}: direct GGX alpha {:.4} rmse {:.5}; Student-T alpha {:.4} gamma {:.3} rmse {:.5} -> GGX alpha {:.4} rmse {:.5} ({:+.1}%)",
+            "{} {}: direct GGX alpha {:.4} rmse {:.5}; Student-T alpha {:.4} gamma {:.3} rmse {:.5} -> GGX alpha {:.4} rmse {:.5} ({:+.1}%); -> V-Ray glossiness {:.4} gtr_gamma {:.3} rmse {:.5}",
             data.source.display(),
             sample.name,
-            direct.alpha,
+            direct.model.alpha,
             direct.rmse_sqrt_l,
-            st.alpha,
-            st.gamma.unwrap(),
+            st.model.alpha,
+            st.model.gamma.value().unwrap(),
             st.rmse_sqrt_l,
             alpha,
             r,
-            100.0 * (r / direct.rmse_sqrt_l - 1.0)
+            100.0 * (r / direct.rmse_sqrt_l - 1.0),
+            p[0],
+            p[1],
+            r_vray
         );
         assert!(
             r <= 1.10 * direct.rmse_sqrt_l,
@@ -94,21 +114,13 @@ fn check(data: &Dataset) {
 
 #[test]
 fn student_t_translated_to_ggx_fits_synthetic_data_within_10_percent_of_direct_ggx() {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fits/example.csv");
-    check(&Dataset::load(&path).unwrap());
+    check(&load_path(&project_root().join("fits/example.csv")).unwrap());
 }
 
 #[test]
 fn student_t_translated_to_ggx_fits_walter_data_within_10_percent_of_direct_ggx() {
-    let path = shared_dir().join("data/walter2007/measurements.csv");
-    if !path.exists() {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "CI=true but the Walter measurements are missing at {}",
-            path.display()
-        );
-        println!("round_trip: did not run for want of {}", path.display());
+    let Some(path) = walter_measurements("round_trip") else {
         return;
-    }
-    check(&Dataset::load(&path).unwrap());
+    };
+    check(&load_path(&path).unwrap());
 }

@@ -15,13 +15,12 @@
 //! inter-reflection is followed until the light leaves or is absorbed (a safety cap of
 //! [`MAX_CROSSINGS`] slab crossings, far above any real path, drops and counts runaway paths).
 //! Light from the back meets the smooth face first. The rough face scatters with all orders of
-//! its microsurface (the random walk: a lossless pane conserves energy exactly) unless
-//! [`RoughFace::single`] is used. Lateral displacement inside the slab is ignored, as in every
-//! BSDF of a thin pane.
+//! its microsurface (the random walk: a lossless pane conserves energy exactly). Lateral
+//! displacement inside the slab is ignored, as in every BSDF of a thin pane.
 
 use rand::{Rng, RngExt};
 use stfit_core::Vec3;
-use stfit_core::bsdf::{Bsdf, RoughDielectric, fresnel_dielectric, refract};
+use stfit_core::bsdf::{fresnel_dielectric, refract};
 use stfit_core::ndf::AnyNdf;
 use stfit_core::walk::{DielectricFacet, Microsurface, ScatteringOrders};
 
@@ -38,56 +37,53 @@ pub trait Layer: Sync {
     fn describe(&self) -> String;
 }
 
-/// The rough interface of the fitted model.
+/// The rough face of the fitted model as a random walk on its microsurface: all orders (a
+/// lossless face conserves energy exactly), or only the orders >= 2 (the part of an all-orders
+/// interface that no closed form gives).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum RoughFace {
-    /// The analytic single-scattering BSDF (Walter et al. 2007, the model's masking), sampled
-    /// by visible normals; loses the energy of higher orders.
-    Single(RoughDielectric<AnyNdf>),
-    /// The microsurface random walk, all orders (height-correlated; conserves energy).
-    AllOrders(Microsurface<AnyNdf, DielectricFacet>),
+pub struct RoughFace {
+    surface: Microsurface<AnyNdf, DielectricFacet>,
 }
 
 impl RoughFace {
-    /// The fitted model as fitted: single scattering with its masking, or all orders.
-    pub fn as_fitted(model: &ExportModel) -> Self {
-        match model.orders {
-            ScatteringOrders::Single => Self::Single(model.single()),
-            _ => Self::AllOrders(model.microsurface(ScatteringOrders::All)),
+    /// All orders of the fitted microsurface's scattering.
+    pub fn all_orders(model: &ExportModel) -> Self {
+        Self {
+            surface: model.microsurface(ScatteringOrders::All),
         }
     }
 
-    /// All orders of the fitted microsurface's scattering.
-    pub fn all_orders(model: &ExportModel) -> Self {
-        Self::AllOrders(model.microsurface(ScatteringOrders::All))
-    }
-
-    /// The single-scattering BSDF of the fitted model.
-    pub fn single(model: &ExportModel) -> Self {
-        Self::Single(model.single())
+    /// Only the orders >= 2 of the fitted microsurface's scattering.
+    pub fn multiple_orders(model: &ExportModel) -> Self {
+        Self {
+            surface: model.microsurface(ScatteringOrders::Multiple),
+        }
     }
 }
 
 impl Layer for RoughFace {
     fn scatter<R: Rng + ?Sized>(&self, wi: Vec3, rng: &mut R) -> Option<(Vec3, f64)> {
-        match self {
-            Self::Single(b) => b.sample(wi, rng).map(|s| (s.wo, s.weight)),
-            Self::AllOrders(m) => m.sample_walk(wi, rng).map(|s| (s.wo, s.weight)),
-        }
+        self.surface.sample_walk(wi, rng).map(|s| (s.wo, s.weight))
     }
 
     fn describe(&self) -> String {
-        match self {
-            Self::Single(b) => format!(
-                "single rough interface, single scattering (Walter et al. 2007, {:?} masking), glass (eta {}) on the back",
-                b.masking(),
-                b.eta()
-            ),
-            Self::AllOrders(m) => format!(
-                "single rough interface, all orders of microsurface scattering (random walk), glass (eta {}) on the back",
-                m.facet().eta()
-            ),
-        }
+        format!(
+            "single rough interface, orders {} of microsurface scattering (random walk), glass (eta {}) on the back",
+            self.surface.orders().name(),
+            self.surface.facet().eta()
+        )
+    }
+}
+
+/// Checks a pane's absorption: the fraction absorbed in one crossing at normal incidence, in
+/// [0, 1).
+pub fn check_absorption(absorption: f64) -> Result<f64, ExportError> {
+    if (0.0..1.0).contains(&absorption) {
+        Ok(absorption)
+    } else {
+        Err(ExportError::Unsupported(format!(
+            "absorption must be in [0, 1) (the fraction absorbed in one crossing at normal incidence), got {absorption}"
+        )))
     }
 }
 
@@ -103,11 +99,7 @@ pub struct Pane {
 impl Pane {
     /// A pane with the given rough face, relative index and absorption `A` in `[0, 1)`.
     pub fn new(face: RoughFace, eta: f64, absorption: f64) -> Result<Self, ExportError> {
-        if !(0.0..1.0).contains(&absorption) {
-            return Err(ExportError::Unsupported(format!(
-                "absorption must be in [0, 1) (the fraction absorbed in one crossing at normal incidence), got {absorption}"
-            )));
-        }
+        check_absorption(absorption)?;
         stfit_core::error::check_eta(eta)?;
         Ok(Self {
             face,
@@ -163,13 +155,11 @@ impl Layer for Pane {
     }
 
     fn describe(&self) -> String {
-        let face = match self.face {
-            RoughFace::Single(_) => "single scattering of the rough face",
-            RoughFace::AllOrders(_) => "all orders of the rough face's microsurface scattering",
-        };
         format!(
-            "pane: rough front face over a smooth back face at eta {}, all inter-reflections between the faces, {face}, absorption per normal crossing {}",
-            self.eta, self.absorption
+            "pane: rough front face over a smooth back face at eta {}, all inter-reflections between the faces, orders {} of the rough face's microsurface scattering, absorption per normal crossing {}",
+            self.eta,
+            self.face.surface.orders().name(),
+            self.absorption
         )
     }
 }

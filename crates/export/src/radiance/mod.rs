@@ -24,13 +24,25 @@
 pub mod klems;
 pub mod layer;
 pub mod matrices;
+pub mod quadrature;
 
 pub use layer::{Layer, Pane, RoughFace};
-pub use matrices::{KlemsBsdf, klems_bsdf};
+pub use matrices::{KlemsBsdf, Method, klems_monte_carlo};
+pub use quadrature::{QuadratureError, QuadratureRule, klems_quadrature};
 
 use std::fmt::Write as _;
 
-use crate::ExportModel;
+use stfit_core::bsdf::RoughDielectric;
+use stfit_core::ndf::{AnyNdf, Ndf};
+use stfit_core::walk::ScatteringOrders;
+
+use crate::{ExportError, ExportModel};
+use matrices::{blocks_from_sums, monte_carlo_sums};
+
+/// Random walks per Klems patch where the matrices need them (the pane; the orders >= 2 of an
+/// all-orders interface) unless told otherwise: standard errors of about 2e-3 on a
+/// hemispherical total of the pane (measured, README).
+pub const DEFAULT_WALKS_PER_PATCH: u64 = 65_536;
 
 /// The pane or the interface alone.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -48,9 +60,12 @@ pub struct RadianceOptions {
     pub layer: LayerKind,
     /// Fraction absorbed in one crossing of the pane at normal incidence (pane only).
     pub absorption: f64,
-    /// Incident directions per Klems patch.
-    pub samples_per_patch: u64,
+    /// Random walks per Klems patch, where walks are needed.
+    pub walks_per_patch: u64,
+    /// Seed of the walks.
     pub seed: u64,
+    /// Quadrature rule of the analytic single-scattering part.
+    pub rule: QuadratureRule,
 }
 
 impl Default for RadianceOptions {
@@ -58,68 +73,116 @@ impl Default for RadianceOptions {
         Self {
             layer: LayerKind::Pane,
             absorption: 0.0,
-            samples_per_patch: 65_536,
+            walks_per_patch: DEFAULT_WALKS_PER_PATCH,
             seed: 1,
+            rule: QuadratureRule::DEFAULT,
         }
     }
 }
 
-/// The layer an export describes: the pane's rough face scatters with all orders of its
-/// microsurface; the interface is the fitted model as fitted.
-pub fn layer_of(model: &ExportModel, opts: &RadianceOptions) -> Result<Either, crate::ExportError> {
-    Ok(match opts.layer {
-        LayerKind::Pane => Either::Pane(Pane::new(
-            RoughFace::all_orders(model),
-            model.eta,
-            opts.absorption,
-        )?),
+impl RadianceOptions {
+    /// Checks the options: absorption in [0, 1) and for a pane only, at least one walk, at
+    /// least one quadrature node.
+    pub fn check(&self) -> Result<(), ExportError> {
+        layer::check_absorption(self.absorption)?;
+        if self.layer == LayerKind::Interface && self.absorption != 0.0 {
+            return Err(ExportError::Unsupported(
+                "absorption applies to a pane, not to a single interface".into(),
+            ));
+        }
+        if self.walks_per_patch == 0 {
+            return Err(ExportError::Unsupported(
+                "walks per patch must be at least 1".into(),
+            ));
+        }
+        if !self.rule.is_valid() {
+            return Err(ExportError::Unsupported(
+                "the quadrature rule needs at least one node per dimension".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The Klems matrices of the model's layer:
+/// - pane: Monte Carlo over random walks through the pane (the rough face with all orders of its
+///   microsurface, every inter-reflection);
+/// - interface of a single-scattering fit: the deterministic quadrature of the fitted BSDF;
+/// - interface of an all-orders fit: the quadrature of its order 1 (the single-scattering BSDF
+///   with height-correlated masking) plus the Monte Carlo of its orders >= 2.
+///
+/// Returns the matrices and the layer's description.
+pub fn klems(
+    model: &ExportModel,
+    opts: &RadianceOptions,
+) -> Result<(KlemsBsdf, String), ExportError> {
+    opts.check()?;
+    match opts.layer {
+        LayerKind::Pane => {
+            let pane = Pane::new(RoughFace::all_orders(model), model.eta(), opts.absorption)?;
+            let bsdf = klems_monte_carlo(&pane, opts.walks_per_patch, opts.seed);
+            Ok((bsdf, pane.describe()))
+        }
         LayerKind::Interface => {
-            if opts.absorption != 0.0 {
-                return Err(crate::ExportError::Unsupported(
-                    "--absorption applies to a pane, not to a single interface".into(),
-                ));
+            let (mut sums, error) = interface_quadrature(model, opts.rule);
+            let single = format!(
+                "single rough interface as fitted ({}), glass (eta {}) on the back",
+                model.describe(),
+                model.eta()
+            );
+            if model.model.orders == ScatteringOrders::Single {
+                let blocks = blocks_from_sums(&sums);
+                let method = Method::Quadrature {
+                    rule: opts.rule,
+                    error,
+                };
+                return Ok((KlemsBsdf::new(blocks, method), single));
             }
-            Either::Face(RoughFace::as_fitted(model))
-        }
-    })
-}
-
-/// A pane or a single face.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Either {
-    Pane(Pane),
-    Face(RoughFace),
-}
-
-impl Layer for Either {
-    fn scatter<R: rand::Rng + ?Sized>(
-        &self,
-        wi: stfit_core::Vec3,
-        rng: &mut R,
-    ) -> Option<(stfit_core::Vec3, f64)> {
-        match self {
-            Self::Pane(p) => p.scatter(wi, rng),
-            Self::Face(f) => f.scatter(wi, rng),
-        }
-    }
-
-    fn describe(&self) -> String {
-        match self {
-            Self::Pane(p) => p.describe(),
-            Self::Face(f) => f.describe(),
+            let multi = RoughFace::multiple_orders(model);
+            let (mc, n) = monte_carlo_sums(&multi, opts.walks_per_patch, opts.seed);
+            for (s, m) in sums.iter_mut().zip(&mc) {
+                s.add(m);
+            }
+            let method = Method::Hybrid {
+                rule: opts.rule,
+                error,
+                walks_per_patch: n,
+            };
+            Ok((KlemsBsdf::new(blocks_from_sums(&sums), method), single))
         }
     }
 }
 
-/// Computes the Klems matrices of the model's layer and writes the WINDOW XML file.
+/// The quadrature of the model's single-scattering BSDF, its NDF dispatched once.
+fn interface_quadrature(
+    model: &ExportModel,
+    rule: QuadratureRule,
+) -> (Vec<matrices::BlockSums>, QuadratureError) {
+    fn run<N: Ndf>(
+        ndf: N,
+        model: &ExportModel,
+        rule: QuadratureRule,
+    ) -> (Vec<matrices::BlockSums>, QuadratureError) {
+        let bsdf = RoughDielectric::new(ndf, model.eta(), model.model.masking)
+            .expect("the model was checked");
+        quadrature::quadrature_sums(&bsdf, rule)
+    }
+    match model.ndf() {
+        AnyNdf::Beckmann(n) => run(n, model, rule),
+        AnyNdf::Ggx(n) => run(n, model, rule),
+        AnyNdf::StudentT(n) => run(n, model, rule),
+    }
+}
+
+/// Computes the Klems matrices of the model's layer ([`klems`]) and writes the WINDOW XML
+/// file, naming the material `name`.
 pub fn export(
     model: &ExportModel,
     opts: &RadianceOptions,
     name: &str,
-) -> Result<(String, KlemsBsdf), crate::ExportError> {
-    let layer = layer_of(model, opts)?;
-    let bsdf = klems_bsdf(&layer, opts.samples_per_patch, opts.seed);
-    Ok((write_xml(model, &layer.describe(), &bsdf, name), bsdf))
+) -> Result<(String, KlemsBsdf), ExportError> {
+    let (bsdf, layer) = klems(model, opts)?;
+    Ok((write_xml(model, &layer, &bsdf, name), bsdf))
 }
 
 /// A value with 5 significant digits, `0` for zero.
@@ -139,6 +202,46 @@ fn xml_text(s: &str) -> String {
         .replace("--", "- -")
 }
 
+/// How the matrices were computed and how exact they are, for the file comment.
+fn method_line(bsdf: &KlemsBsdf) -> String {
+    let mc = |n: u64| {
+        format!(
+            "Monte Carlo: {n} cosine-weighted incident directions per patch (jittered grid), each followed by one random walk and binned into exiting patches; unbiased, largest standard error of a hemispherical total {:.2e}, of an entry holding >= 1% of its patch's flux {:.1}% (relative)",
+            bsdf.max_total_stderr(),
+            100.0 * bsdf.max_rel_stderr_significant()
+        )
+    };
+    let quad = |rule: &QuadratureRule, error: &QuadratureError| {
+        let coarser = rule.coarser();
+        format!(
+            "deterministic quadrature: the two azimuthal integrals reduced exactly to one over the azimuth difference (the BSDF is isotropic) against the patches' overlap kernel, Gauss-Legendre in cos^2 theta over the incident ring ({} nodes) and the exit ring ({} nodes) and in the azimuth difference on each linear piece of the kernel ({} nodes); estimated error (difference from the embedded coarser rule of {}/{}/{} nodes) {:.1e} on a hemispherical total, {:.1e} relative on an entry holding >= 1% of its patch's flux",
+            rule.theta_incident,
+            rule.theta_exit,
+            rule.azimuth,
+            coarser.theta_incident,
+            coarser.theta_exit,
+            coarser.azimuth,
+            error.max_total,
+            error.max_rel_significant
+        )
+    };
+    match &bsdf.method {
+        Method::MonteCarlo { walks_per_patch } => {
+            format!("Patch averages by {}.", mc(*walks_per_patch))
+        }
+        Method::Quadrature { rule, error } => format!("Patch averages by {}.", quad(rule, error)),
+        Method::Hybrid {
+            rule,
+            error,
+            walks_per_patch,
+        } => format!(
+            "Patch averages: order 1 (height-correlated single scattering) by {}; orders >= 2 by {}.",
+            quad(rule, error),
+            mc(*walks_per_patch)
+        ),
+    }
+}
+
 /// The WINDOW BSDF XML document.
 pub fn write_xml(model: &ExportModel, layer: &str, bsdf: &KlemsBsdf, name: &str) -> String {
     let mut s = String::new();
@@ -154,15 +257,10 @@ pub fn write_xml(model: &ExportModel, layer: &str, bsdf: &KlemsBsdf, name: &str)
         "Front = the rough face (light from the air on the rough side, as measured); front = WINDOW exterior.".to_string(),
         format!(
             "Physical BSDF: the fit's scale ({}) is a calibration factor of the measurement and is not applied.",
-            model.scale
+            model.scale()
         ),
         "Values: BSDF in 1/sr, averaged over each pair of Klems patches weighted by projected solid angle on both sides.".to_string(),
-        format!(
-            "Quadrature: {} cosine-weighted incident directions per patch (jittered grid), each scattered once and binned into exiting patches; unbiased, largest standard error of a hemispherical total {:.2e}, of an entry holding >= 1% of its patch's flux {:.1}% (relative).",
-            bsdf.samples_per_patch,
-            bsdf.max_total_stderr(),
-            100.0 * bsdf.blocks.iter().map(|b| b.max_rel_stderr_significant).fold(0.0, f64::max)
-        ),
+        method_line(bsdf),
         format!(
             "Hemispherical totals, maximum over incident patches (checkBSDF's Max. Tot. Dir): Tf {:.4}, Rf {:.4}, Tb {:.4}, Rb {:.4}; largest loss of a patch {:.2e}.",
             max_total("Transmission Front"),

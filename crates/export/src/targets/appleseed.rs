@@ -6,7 +6,7 @@
 //! - src/appleseed/foundation/math/microfacet.cpp, `StdMDF`: `D = 1 / (pi alpha^2 cos^4 (1 +
 //!   tan^2 / ((gamma - 1) alpha^2))^gamma)` (Ribardiere et al. 2017, eq. 18), which is stfit's
 //!   Student-T with the same alpha and gamma, and `G = 1 / (1 + Lambda(wo) + Lambda(wi))` with
-//!   the exact Student-T Lambda (their eq. 14) ([`Smith::Uncorrelated`]).
+//!   the exact Student-T Lambda (their eq. 14) ([`Smith::LambdaSum`]).
 //! - src/appleseed/renderer/modeling/bsdf/glassbsdf.cpp: inputs `mdf` (`beckmann`, `ggx`,
 //!   `std`), `surface_transmittance` (default 0.85: written as 1), `reflection_tint`,
 //!   `refraction_tint`, `ior` in [1, 2.5], `roughness` in [0, 1], `highlight_falloff` in
@@ -17,7 +17,7 @@
 //! the parameter is clamped with a warning and the error of the clamped model is reported.
 
 use super::{AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet};
-use crate::target::{Smith, TargetDielectric};
+use crate::target::{CoreMicrofacet, Smith, TargetDielectric};
 use crate::translate::{self, Family, Reference};
 use crate::{ExportError, ExportModel};
 use stfit_core::ndf::{AnyNdf, StudentT};
@@ -57,16 +57,22 @@ pub struct Std {
 }
 
 impl Family for Std {
-    type Bsdf = TargetDielectric;
+    type Bsdf = TargetDielectric<CoreMicrofacet>;
 
     fn names(&self) -> Vec<&'static str> {
         vec!["roughness", "highlight_falloff"]
     }
 
-    fn build(&self, p: &[f64]) -> Result<TargetDielectric, ExportError> {
+    fn build(&self, p: &[f64]) -> Result<Self::Bsdf, ExportError> {
         let alpha = (p[0] * p[0]).max(0.001);
         let ndf: AnyNdf = StudentT::new(alpha, gamma_of_falloff(p[1]))?.into();
-        TargetDielectric::new(ndf, self.eta, Smith::Uncorrelated)
+        TargetDielectric::new(
+            CoreMicrofacet {
+                ndf,
+                smith: Smith::LambdaSum,
+            },
+            self.eta,
+        )
     }
 
     fn params_of(&self, x: &[f64]) -> Vec<f64> {
@@ -85,13 +91,13 @@ impl Family for Std {
 /// Writes the appleseed project fragment.
 pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Export, ExportError> {
     let mut warnings = Vec::new();
-    if !(1.0..=2.5).contains(&model.eta) {
+    if !(1.0..=2.5).contains(&model.eta()) {
         return Err(ExportError::Unsupported(format!(
             "appleseed's glass_bsdf takes ior in [1, 2.5], the fit has eta {}",
-            model.eta
+            model.eta()
         )));
     }
-    let (mdf, t) = match model.ndf {
+    let (mdf, t) = match model.ndf() {
         AnyNdf::StudentT(st) => {
             let (alpha, gamma) = (st.alpha(), st.gamma());
             let mut r = alpha.sqrt();
@@ -112,22 +118,22 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
                     "gamma {gamma:.6} is outside appleseed's highlight-falloff range [{GAMMA_MIN}, {GAMMA_MAX}]: clamped to {g}"
                 ));
             }
-            let fam = Std { eta: model.eta };
+            let fam = Std { eta: model.eta() };
             (
                 "std",
                 translate::evaluate(&fam, model, reference, &[r, falloff_of_gamma(g)])?,
             )
         }
         AnyNdf::Ggx(_) | AnyNdf::Beckmann(_) => {
-            let ndf = if matches!(model.ndf, AnyNdf::Ggx(_)) {
+            let ndf = if matches!(model.ndf(), AnyNdf::Ggx(_)) {
                 Family1::Ggx
             } else {
                 Family1::Beckmann
             };
             let fam = Microfacet {
                 ndf,
-                eta: model.eta,
-                smith: Smith::Uncorrelated,
+                eta: model.eta(),
+                smith: Smith::LambdaSum,
                 map: AlphaMap::RoughnessSquared,
                 name: "roughness",
                 max_param: 1.0,
@@ -167,7 +173,7 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
     param("surface_transmittance", "1.0".into());
     param("reflection_tint", "1.0".into());
     param("refraction_tint", "1.0".into());
-    param("ior", model.eta.to_string());
+    param("ior", model.eta().to_string());
     param("roughness", roughness.to_string());
     if let Some(f) = falloff {
         param("highlight_falloff", f.to_string());

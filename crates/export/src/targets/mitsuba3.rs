@@ -34,14 +34,14 @@ pub fn translation(
     reference: &Reference,
     warnings: &mut Vec<String>,
 ) -> Result<(Family1, Translation), ExportError> {
-    let candidates: &[Family1] = match model.ndf {
+    let candidates: &[Family1] = match model.ndf() {
         AnyNdf::Ggx(_) => &[Family1::Ggx],
         AnyNdf::Beckmann(_) => &[Family1::Beckmann],
         AnyNdf::StudentT(_) => &[Family1::Ggx, Family1::Beckmann],
     };
     let mut best: Option<(Family1, Translation)> = None;
     for &c in candidates {
-        let t = translate_microfacet(&family(c, model.eta), model, reference, warnings)?;
+        let t = translate_microfacet(&family(c, model.eta()), model, reference, warnings)?;
         if best.as_ref().is_none_or(|(_, b)| t.rmse < b.rmse) {
             best = Some((c, t));
         }
@@ -72,7 +72,7 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
     xml.push_str("-->\n");
     xml.push_str(&format!(
         "<bsdf type=\"roughdielectric\" id=\"{id}\">\n    <string name=\"distribution\" value=\"{dist}\"/>\n    <float name=\"alpha\" value=\"{alpha}\"/>\n    <float name=\"int_ior\" value=\"{}\"/>\n    <float name=\"ext_ior\" value=\"1\"/>\n</bsdf>\n",
-        model.eta
+        model.eta()
     ));
     let mut py = String::new();
     for n in &notes {
@@ -80,7 +80,7 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
     }
     py.push_str(&format!(
         "{id} = {{\n    'type': 'roughdielectric',\n    'distribution': '{dist}',\n    'alpha': {alpha},\n    'int_ior': {},\n    'ext_ior': 1.0,\n}}\n",
-        model.eta
+        model.eta()
     ));
     Ok(Export {
         files: vec![

@@ -12,10 +12,12 @@ pub mod cycles;
 pub mod mitsuba3;
 pub mod openpbr;
 pub mod pbrt_v4;
+pub mod vray;
 
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx};
+use stfit_fit::{FitResult, Gamma};
 
-use crate::target::{Smith, TargetDielectric};
+use crate::target::{CoreMicrofacet, Smith, TargetDielectric};
 use crate::translate::{self, Family, Reference, Translation, from_log_coord, log_coord};
 use crate::{ExportError, ExportModel};
 
@@ -27,17 +29,19 @@ pub enum Target {
     Cycles,
     Appleseed,
     OpenPbr,
+    VRay,
     Radiance,
 }
 
 impl Target {
     /// Every target.
-    pub const ALL: [Target; 6] = [
+    pub const ALL: [Target; 7] = [
         Target::Mitsuba3,
         Target::PbrtV4,
         Target::Cycles,
         Target::Appleseed,
         Target::OpenPbr,
+        Target::VRay,
         Target::Radiance,
     ];
 
@@ -49,6 +53,7 @@ impl Target {
             Self::Cycles => "cycles",
             Self::Appleseed => "appleseed",
             Self::OpenPbr => "openpbr",
+            Self::VRay => "vray",
             Self::Radiance => "radiance",
         }
     }
@@ -72,12 +77,64 @@ pub struct Export {
     pub translation: Option<Translation>,
 }
 
-/// A name usable as an identifier in scene files: the sample and model.
-pub fn identifier(source_name: &str) -> String {
-    source_name
+/// The name of an export file of the fit `id`: `ID-TARGET.EXT`, such as
+/// `frosted_student_t-mitsuba3.xml`.
+pub fn file_name(id: &str, target: Target, extension: &str) -> String {
+    format!("{id}-{}.{extension}", target.name())
+}
+
+/// The files of several exports joined into one text per file type (extension), in order of
+/// first appearance, the exports' texts separated by a blank line.
+pub fn join(exports: &[Export]) -> Vec<ExportFile> {
+    let mut joined: Vec<ExportFile> = Vec::new();
+    for f in exports.iter().flat_map(|e| &e.files) {
+        match joined.iter_mut().find(|j| j.extension == f.extension) {
+            Some(j) => {
+                j.text.push('\n');
+                j.text.push_str(&f.text);
+            }
+            None => joined.push(f.clone()),
+        }
+    }
+    joined
+}
+
+/// The identifier of a fit in scene files and file names: its sample and model with every
+/// character outside `[A-Za-z0-9]` replaced by `_`, such as `frosted_student_t` and
+/// `frosted_student_t_gamma_fixed`.
+pub fn fit_identifier(fit: &FitResult) -> String {
+    let suffix = if fit.model.gamma.is_fixed() {
+        "-gamma-fixed"
+    } else {
+        ""
+    };
+    format!("{}-{}{suffix}", fit.sample, fit.model.kind.name())
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
         .collect()
+}
+
+/// Which stored fits to export: all, or those of one sample and/or one model (gamma free or held
+/// fixed for Student-T).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Selection {
+    pub sample: Option<String>,
+    pub kind: Option<stfit_fit::ModelKind>,
+    /// For Student-T: `Some(true)` only fits with gamma held fixed, `Some(false)` only free.
+    pub gamma_fixed: Option<bool>,
+}
+
+impl Selection {
+    /// Whether `fit` is selected.
+    pub fn matches(&self, fit: &FitResult) -> bool {
+        let m = &fit.model;
+        self.sample.as_ref().is_none_or(|s| *s == fit.sample)
+            && self.kind.is_none_or(|k| k == m.kind)
+            && self.gamma_fixed.is_none_or(|fixed| match m.gamma {
+                Gamma::NotApplicable => true,
+                g => g.is_fixed() == fixed,
+            })
+    }
 }
 
 /// How a renderer's roughness parameter maps to the NDF's alpha.
@@ -131,19 +188,25 @@ pub struct Microfacet {
 }
 
 impl Family for Microfacet {
-    type Bsdf = TargetDielectric;
+    type Bsdf = TargetDielectric<CoreMicrofacet>;
 
     fn names(&self) -> Vec<&'static str> {
         vec![self.name]
     }
 
-    fn build(&self, p: &[f64]) -> Result<TargetDielectric, ExportError> {
+    fn build(&self, p: &[f64]) -> Result<Self::Bsdf, ExportError> {
         let alpha = self.map.alpha(p[0]);
         let ndf: AnyNdf = match self.ndf {
             Family1::Ggx => Ggx::new(alpha)?.into(),
             Family1::Beckmann => Beckmann::new(alpha)?.into(),
         };
-        TargetDielectric::new(ndf, self.eta, self.smith)
+        TargetDielectric::new(
+            CoreMicrofacet {
+                ndf,
+                smith: self.smith,
+            },
+            self.eta,
+        )
     }
 
     fn params_of(&self, x: &[f64]) -> Vec<f64> {
@@ -172,7 +235,7 @@ pub fn translate_microfacet(
     warnings: &mut Vec<String>,
 ) -> Result<Translation, ExportError> {
     let same = matches!(
-        (family.ndf, model.ndf),
+        (family.ndf, model.ndf()),
         (Family1::Ggx, AnyNdf::Ggx(_)) | (Family1::Beckmann, AnyNdf::Beckmann(_))
     );
     if same {
@@ -205,16 +268,9 @@ pub fn provenance(
             model.source
         ),
         format!(
-            "fitted model: {} alpha {}{}, eta {}, {:?} masking, orders {:?}; the fit's scale {} is a calibration factor, not applied",
-            model.ndf_name(),
-            model.alpha(),
-            model
-                .gamma()
-                .map_or(String::new(), |g| format!(" gamma {g}")),
-            model.eta,
-            model.masking,
-            model.orders,
-            model.scale
+            "fitted model: {}; the fit's scale {} is a calibration factor, not applied",
+            model.describe(),
+            model.scale()
         ),
     ];
     v.extend(conventions.iter().map(|s| s.to_string()));
@@ -232,13 +288,14 @@ pub fn provenance(
 /// Exports `model` to a renderer target (not [`Target::Radiance`], which
 /// [`crate::radiance::export`] writes), with `id` naming the material.
 pub fn export(target: Target, model: &ExportModel, id: &str) -> Result<Export, ExportError> {
-    let reference = Reference::standard(model);
+    let reference = || Reference::standard(model);
     match target {
-        Target::Mitsuba3 => mitsuba3::export(model, id, &reference),
-        Target::PbrtV4 => pbrt_v4::export(model, &reference),
-        Target::Cycles => cycles::export(model, id, &reference),
-        Target::Appleseed => appleseed::export(model, id, &reference),
-        Target::OpenPbr => openpbr::export(model, id, &reference),
+        Target::Mitsuba3 => mitsuba3::export(model, id, &reference()?),
+        Target::PbrtV4 => pbrt_v4::export(model, &reference()?),
+        Target::Cycles => cycles::export(model, id, &reference()?),
+        Target::Appleseed => appleseed::export(model, id, &reference()?),
+        Target::OpenPbr => openpbr::export(model, id, &reference()?),
+        Target::VRay => vray::export(model, id, &reference()?),
         Target::Radiance => Err(ExportError::Unsupported(
             "radiance is written by stfit_export::radiance::export".into(),
         )),

@@ -1,19 +1,29 @@
 //! OpenPBR: a transmissive `open_pbr_surface` (MaterialX) whose specular lobe is the
 //! specular-haze mixture of two GGX lobes.
 //!
-//! Conventions read from the OpenPBR viewer's specular BRDF carrying pull request 254 of
-//! AcademySoftwareFoundation/OpenPBR ("specular haze (dual-lobe NDF)"): core lobe alpha =
-//! `specular_roughness^2`, haze lobe alpha = `mix(specular_roughness, 1,
-//! specular_haze_spread)^2` (isotropic; both floored at 1e-4), and the BSDF mixes `D G2` of
-//! the two lobes with weight `specular_haze` (`G2` height-correlated,
-//! [`Smith::Uncorrelated`]); `specular_haze` and `specular_haze_spread` (default 0.3) are
-//! OpenPBR 1.2 parameters. stfit assumes the same mixture for the transmitted lobe
-//! (`transmission_weight` 1). The mixture is fitted to the fitted BSDF over the sphere of
-//! directions; the haze is written only where it is meaningful, that is where it lowers the
-//! rmse by at least [`MEANINGFUL_GAIN`] relative to the best single GGX lobe (haze 0).
+//! Conventions, from AcademySoftwareFoundation/OpenPBR, branch dev_1.2 (OpenPBR 1.2, unreleased
+//! at the time of writing; `specular_haze` came with pull requests 254 and 298):
+//! - index.html, "Microfacet model": GGX with `alpha = specular_roughness^2`, `G` from the
+//!   Smith model; "Specular haze": the base BSDF is `(1 - specular_haze) f_core + specular_haze
+//!   f_haze`, and "for the dielectric base, both core and haze BSDF lobes are given by
+//!   f_dielectric except with a different roughness value for the haze", `r_haze =
+//!   lerp(specular_roughness, 1, specular_haze_spread)` (default spread 0.3): by the
+//!   specification the haze applies to the transmitted light too.
+//! - reference/open_pbr_surface.mtlx (the reference MaterialX graph): the haze mixes only the
+//!   `dielectric_bsdf` reflection lobes (`scatter_mode` R); the transmission
+//!   (`dielectric_transmission`, `scatter_mode` T) keeps the core roughness alone. A renderer
+//!   that compiles this graph transmits without the haze.
+//! - `G`: height-correlated `1 / (1 + Lambda_i + Lambda_o)` ([`Smith::LambdaSum`]), as the
+//!   OpenPBR viewer's `ggx_G2` and MaterialX's `mx_ggx_smith_G2`.
+//!
+//! The mixture is fitted, per the specification (haze in both lobes), to the fitted BSDF over
+//! the sphere of directions; the haze is written only where it is meaningful, that is where it
+//! lowers the rmse by at least [`MEANINGFUL_GAIN`] relative to the best single GGX lobe
+//! (haze 0). The comment also gives the rmse of the written values as the reference graph
+//! renders them (haze in reflection only).
 
 use super::{AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet};
-use crate::target::{Mixture, Smith, TargetDielectric};
+use crate::target::{CoreMicrofacet, Mixture, Smith, TargetDielectric};
 use crate::translate::{self, Family, Reference, Translation, from_unit_coord, unit_coord};
 use crate::{ExportError, ExportModel};
 use stfit_core::ndf::Ggx;
@@ -37,14 +47,21 @@ pub const PARAMETERS: [&str; 7] = [
 pub struct Haze {
     pub eta: f64,
     pub start_roughness: f64,
+    /// Whether the haze lobe transmits too (the specification) or only reflects (the reference
+    /// MaterialX graph).
+    pub haze_transmits: bool,
 }
 
-fn lobe(alpha: f64, eta: f64) -> Result<TargetDielectric, ExportError> {
-    TargetDielectric::new(Ggx::new(alpha.max(1e-4))?.into(), eta, Smith::Uncorrelated)
+fn lobe(alpha: f64, eta: f64) -> Result<TargetDielectric<CoreMicrofacet>, ExportError> {
+    let micro = CoreMicrofacet {
+        ndf: Ggx::new(alpha.max(1e-4))?.into(),
+        smith: Smith::LambdaSum,
+    };
+    TargetDielectric::new(micro, eta)
 }
 
 impl Family for Haze {
-    type Bsdf = Mixture;
+    type Bsdf = Mixture<CoreMicrofacet>;
 
     fn names(&self) -> Vec<&'static str> {
         vec![
@@ -54,13 +71,14 @@ impl Family for Haze {
         ]
     }
 
-    fn build(&self, p: &[f64]) -> Result<Mixture, ExportError> {
+    fn build(&self, p: &[f64]) -> Result<Self::Bsdf, ExportError> {
         let r = p[0];
         let rh = r + (1.0 - r) * p[2];
         Ok(Mixture {
             a: lobe(r * r, self.eta)?,
             b: lobe(rh * rh, self.eta)?,
             weight: p[1],
+            haze_transmits: self.haze_transmits,
         })
     }
 
@@ -83,21 +101,19 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
     let mut warnings = Vec::new();
     let single = Microfacet {
         ndf: Family1::Ggx,
-        eta: model.eta,
-        smith: Smith::Uncorrelated,
+        eta: model.eta(),
+        smith: Smith::LambdaSum,
         map: AlphaMap::RoughnessSquared,
         name: "specular_roughness",
         max_param: 1.0,
     };
     let one = translate_microfacet(&single, model, reference, &mut warnings)?;
-    let haze = translate::fit(
-        &Haze {
-            eta: model.eta,
-            start_roughness: one.params[0].value,
-        },
-        model,
-        reference,
-    )?;
+    let spec = Haze {
+        eta: model.eta(),
+        start_roughness: one.params[0].value,
+        haze_transmits: true,
+    };
+    let haze = translate::fit(&spec, model, reference)?;
     let meaningful = haze.rmse < (1.0 - MEANINGFUL_GAIN) * one.rmse;
     let t: Translation = if meaningful {
         haze.clone()
@@ -108,7 +124,7 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         model,
         Some(&t),
         &[
-            "OpenPBR: alpha = specular_roughness^2; haze lobe alpha = mix(specular_roughness, 1, specular_haze_spread)^2 (OpenPBR 1.2, PR 254)",
+            "OpenPBR (1.2, dev_1.2 index.html): alpha = specular_roughness^2; haze lobe alpha = lerp(specular_roughness, 1, specular_haze_spread)^2, mixed with weight specular_haze into the whole dielectric BSDF",
         ],
     );
     notes.push(format!(
@@ -121,6 +137,17 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
             "gain below 5%: haze not meaningful, not written"
         }
     ));
+    if meaningful {
+        let graph = Haze {
+            haze_transmits: false,
+            ..spec
+        };
+        let p: Vec<f64> = haze.params.iter().map(|p| p.value).collect();
+        notes.push(format!(
+            "the reference MaterialX graph (reference/open_pbr_surface.mtlx) applies the haze to reflection only; rendered so, these values have rmse {:.4}.",
+            reference.rmse(&graph.build(&p)?)
+        ));
+    }
     let mut text = String::from("<?xml version=\"1.0\"?>\n<!--\n");
     for n in &notes {
         text.push_str(&format!("  {}\n", n.replace("--", "- -")));
@@ -137,7 +164,7 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
     input("base_weight", 0.0);
     input("specular_weight", 1.0);
     input("specular_roughness", t.params[0].value);
-    input("specular_ior", model.eta);
+    input("specular_ior", model.eta());
     if meaningful {
         input("specular_haze", haze.params[1].value);
         input("specular_haze_spread", haze.params[2].value);

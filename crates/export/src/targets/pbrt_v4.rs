@@ -7,7 +7,7 @@
 //! sqrt(roughness)` (src/pbrt/util/scattering.h), so stfit writes `roughness = alpha^2` and
 //! states `remaproughness true` explicitly. The BSDF is `DielectricBxDF` (src/pbrt/bxdfs.h):
 //! Walter et al. 2007 with GGX only and `G = 1 / (1 + Lambda(wo) + Lambda(wi))` for reflection
-//! and transmission ([`Smith::Uncorrelated`]).
+//! and transmission ([`Smith::LambdaSum`]).
 
 use super::{AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet};
 use crate::target::Smith;
@@ -22,7 +22,7 @@ pub fn family(eta: f64) -> Microfacet {
     Microfacet {
         ndf: Family1::Ggx,
         eta,
-        smith: Smith::Uncorrelated,
+        smith: Smith::LambdaSum,
         map: AlphaMap::SqrtRoughness,
         name: "roughness",
         max_param: 100.0,
@@ -32,7 +32,7 @@ pub fn family(eta: f64) -> Microfacet {
 /// Writes the material line with its comment.
 pub fn export(model: &ExportModel, reference: &Reference) -> Result<Export, ExportError> {
     let mut warnings = Vec::new();
-    let t = translate_microfacet(&family(model.eta), model, reference, &mut warnings)?;
+    let t = translate_microfacet(&family(model.eta()), model, reference, &mut warnings)?;
     let roughness = t.params[0].value;
     let mut text = String::new();
     for n in provenance(
@@ -47,7 +47,7 @@ pub fn export(model: &ExportModel, reference: &Reference) -> Result<Export, Expo
     }
     text.push_str(&format!(
         "Material \"dielectric\" \"float eta\" [ {} ] \"float roughness\" [ {roughness} ] \"bool remaproughness\" [ true ]\n",
-        model.eta
+        model.eta()
     ));
     Ok(Export {
         files: vec![ExportFile {
