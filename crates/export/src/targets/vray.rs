@@ -170,6 +170,9 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
             "assumed: V-Ray's glossy refraction is Walter et al.'s BTDF with the same GTR D and G1 at refract_glossiness (its source is not public); refract_glossiness = reflect_glossiness",
         ],
     );
+    notes.push(
+        "V-Ray's G1 is 0 for cos theta <= 1e-3 (beyond 89.94 degrees): the outermost polar node of the sphere of directions (89.95 degrees) lies there, so even a GGX fit (mapped exactly) shows a nonzero rmse over the sphere".to_string(),
+    );
     notes.push(format!(
         "V-Ray's G1 at gtr_gamma {gamma:.4} (a spline through its closed forms at 0..4) differs from the exact Smith G1 of this GTR by at most {:.1e}",
         g1_deviation(&gtr)
