@@ -60,8 +60,8 @@ fn synth_then_load_gives_the_model_values() {
         let sample = &data.samples[0];
         assert_eq!(sample.name, "ground, fine");
         assert_eq!(sample.points.len(), 3 * 201);
-        assert_eq!(sample.points[1].theta_o_deg, 150.5);
-        assert_eq!(sample.points[201].theta_i_deg, 45.0);
+        assert_eq!(sample.points[1].in_plane_angles().unwrap().1, 150.5);
+        assert_eq!(sample.points[201].theta_i_deg(), 45.0);
         let truth = Model {
             eta: 1.45,
             masking: Masking::Correlated,
@@ -74,8 +74,8 @@ fn synth_then_load_gives_the_model_values() {
         };
         let mut positive = 0;
         for m in &sample.points {
-            let l = truth.predict(&[(m.theta_i_deg, m.theta_o_deg)]).unwrap()[0];
-            assert_eq!(m.l, l, "{model} at ({}, {})", m.theta_i_deg, m.theta_o_deg);
+            let l = truth.predict_points(std::slice::from_ref(m)).unwrap()[0];
+            assert_eq!(m.value, l, "{model} at {:?}", m.angles);
             assert_eq!(m.weight, 1.0);
             positive += usize::from(l > 0.0);
         }
@@ -149,8 +149,8 @@ fn synth_noise_is_relative_with_the_requested_sigma() {
         .points
         .iter()
         .zip(&noisy.samples[0].points)
-        .filter(|(c, _)| c.l > 1e-3)
-        .map(|(c, n)| n.l / c.l - 1.0)
+        .filter(|(c, _)| c.value > 1e-3)
+        .map(|(c, n)| n.value / c.value - 1.0)
         .collect();
     let n = rel.len() as f64;
     assert!(n > 300.0);
@@ -259,17 +259,21 @@ fn fits_of(stdout: &str) -> Vec<serde_json::Value> {
 
 /// The keys of one fit: those of stfit 0.1 (whose names and meanings stay) and those added
 /// since, which record the model and how it was fitted.
-const KEYS: [&str; 21] = [
+const KEYS: [&str; 26] = [
     "alpha",
     "alpha_stderr",
     "data",
     "eta",
+    "eta_fixed",
+    "eta_stderr",
     "gamma",
     "gamma_fixed",
     "gamma_stderr",
     "iterations",
+    "log_floor",
     "loss",
     "masking",
+    "measured",
     "model",
     "n_points",
     "optimizer",
@@ -277,6 +281,7 @@ const KEYS: [&str; 21] = [
     "rmse_sqrt_l",
     "sample",
     "scale",
+    "scale_fixed",
     "scale_stderr",
     "seed",
     "stfit_version",
@@ -315,6 +320,10 @@ fn json_has_every_key_with_its_type_and_recovers_the_truth() {
         assert!(f["iterations"].is_u64(), "{fit}");
         // The model as fitted: the defaults, the data file and the version.
         assert_eq!(f["eta"], 1.51, "{fit}");
+        assert_eq!(f["eta_fixed"], true, "{fit}");
+        assert!(f["eta_stderr"].is_null(), "{fit}");
+        assert_eq!(f["scale_fixed"], false, "{fit}");
+        assert!(f["log_floor"].is_null(), "{fit}");
         assert_eq!(f["masking"], "separable", "{fit}");
         assert_eq!(f["orders"], "single", "{fit}");
         assert_eq!(f["loss"], "sqrt", "{fit}");

@@ -70,7 +70,7 @@ fn table_rows<'a>(md: &'a str, sample: &str) -> Vec<(&'a str, &'a str)> {
     md.lines()
         .filter_map(|l| {
             let cells: Vec<&str> = l.split('|').map(str::trim).collect();
-            (cells.len() > 8 && cells[1] == sample).then(|| (cells[2], cells[7]))
+            (cells.len() > 9 && cells[1] == sample).then(|| (cells[2], cells[8]))
         })
         .collect()
 }
@@ -159,7 +159,7 @@ fn sample_and_scale_flags_select_what_is_drawn() {
         p(&json),
         "--sample",
         "etched",
-        "--scale",
+        "--y-axis",
         "linear",
         "--out",
         p(&out),
@@ -168,7 +168,7 @@ fn sample_and_scale_flags_select_what_is_drawn() {
     let md = read(&out, "fits.md");
     assert_eq!(table_rows(&md, "etched").len(), 4);
     assert!(table_rows(&md, "frosted").is_empty());
-    assert!(md.contains("Figures plot L."));
+    assert!(md.contains("Figures of in-plane data plot L."));
     assert!(read(&out, "etched-residuals.svg").contains("L measured − L model"));
     assert!(!read(&out, "etched-fits.svg").contains("√L<"));
 }
@@ -232,8 +232,11 @@ fn bad_input_fails_with_a_message() {
         );
         assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
     }
-    let out = stfit(&["report", p(&ex), "--scale", "log"]);
+    let out = stfit(&["report", p(&ex), "--y-axis", "log"]);
     assert_eq!(out.code, Some(2));
+    let out = stfit(&["report", p(&ex), "--scale", "linear"]);
+    assert_eq!(out.code, Some(2));
+    assert!(out.stderr.contains("--y-axis"), "{}", out.stderr);
     let out = stfit(&["report", p(&ex), "--eta", "1"]);
     assert_eq!(out.code, Some(2));
 }

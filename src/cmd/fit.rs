@@ -8,24 +8,25 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use stfit_core::ScatteringOrders;
 use stfit_fit::{
-    DEFAULT_ETA, DEFAULT_WALKS, Dataset, FitOptions, FitResult, FitsFile, Loss, ModelKind,
-    ModelSpec, Optimizer, all_models, fit_dataset,
+    DEFAULT_ETA, DEFAULT_LOG_FLOOR, DEFAULT_WALKS, Dataset, FitOptions, FitResult, FitsFile, Loss,
+    ModelKind, ModelSpec, Optimizer, Parameter, all_models, fit_dataset, load_paths,
 };
 use stfit_report::fits_table;
 
 use super::{
-    CmdError, CmdResult, MaskingArg, OrdersArg, Retired, check_eta_arg, failed, masking_of,
-    print_stdout, usage, write_file,
+    CmdError, CmdResult, MaskingArg, OrdersArg, Retired, failed, masking_of, print_stdout, usage,
+    write_file,
 };
 
 /// Arguments of the default (fit) command.
 #[derive(Debug, Clone, Args)]
 pub struct FitArgs {
-    /// Measurement file: CSV with columns theta_i_deg, theta_o_deg and L or sqrt_L, optionally
-    /// sample and weight (see data-format.md). A file named like a subcommand needs a path
-    /// such as ./synth.
-    #[arg(value_name = "DATA", required = true)]
-    pub data: Option<PathBuf>,
+    /// Measurement files or folders: CSV (in-plane: theta_i_deg, theta_o_deg, L or sqrt_L;
+    /// general: theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, bsdf; optionally sample and
+    /// weight) or pab-opto goniophotometer files; see data-format.md. A file named like a
+    /// subcommand needs a path such as ./synth.
+    #[arg(value_name = "DATA", required = true, num_args = 1..)]
+    pub data: Vec<PathBuf>,
     #[command(flatten)]
     pub options: FitOptionArgs,
     /// Fit only the sample called NAME (default: every sample, in file order).
@@ -51,12 +52,26 @@ pub struct FitOptionArgs {
     /// Hold the Student-T shape gamma at G (> 3/2) instead of fitting it (student-t only).
     #[arg(long, value_name = "G", allow_negative_numbers = true)]
     pub gamma: Option<f64>,
-    /// Relative index of refraction of the glass.
-    #[arg(long, value_name = "E", default_value_t = DEFAULT_ETA, allow_negative_numbers = true)]
-    pub eta: f64,
-    /// Least squares on sqrt(L) or on L.
+    /// Relative index of refraction n_inside / n_outside of the glass: a value, or `free` to
+    /// fit it (multi-start search in [1.05, 3]).
+    #[arg(long, value_name = "E|free", default_value_t = DEFAULT_ETA.to_string(), allow_negative_numbers = true)]
+    pub eta: String,
+    /// The per-sample calibration scale: `free` (fitted) or a value to hold it at (`1` for
+    /// absolutely calibrated data).
+    #[arg(
+        long,
+        value_name = "S|free",
+        default_value = "free",
+        allow_negative_numbers = true
+    )]
+    pub scale: String,
+    /// Least squares on sqrt(value), on the value, or on ln(value + floor) (a relative loss
+    /// for data spanning decades; floor = --log-floor times the sample's largest value).
     #[arg(long, value_enum, default_value_t = LossArg::Sqrt)]
     pub loss: LossArg,
+    /// The floor of --loss log, relative to each sample's largest measured value.
+    #[arg(long, value_name = "F", default_value_t = DEFAULT_LOG_FLOOR, allow_negative_numbers = true)]
+    pub log_floor: f64,
     /// Local optimiser for the shape parameters.
     #[arg(long, value_enum, default_value_t = OptimizerArg::NelderMead)]
     pub optimizer: OptimizerArg,
@@ -90,10 +105,36 @@ pub enum ModelArg {
 /// `--loss`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum LossArg {
-    /// Least squares on sqrt(L).
+    /// Least squares on sqrt(value).
     Sqrt,
-    /// Least squares on L.
+    /// Least squares on the value.
     Linear,
+    /// Least squares on ln(value + floor).
+    Log,
+}
+
+/// A parameter given as a value or `free`, checked by `check` when a value.
+fn parameter(
+    flag: &str,
+    text: &str,
+    check: impl Fn(f64) -> Result<f64, String>,
+) -> Result<Parameter, CmdError> {
+    if text == "free" {
+        return Ok(Parameter::Free);
+    }
+    let v: f64 = text.trim().parse().map_err(|_| {
+        let hint = if flag == "--scale" && matches!(text, "sqrt" | "linear" | "log") {
+            " (the vertical axis of report plots is --y-axis)"
+        } else {
+            ""
+        };
+        usage(format!(
+            "{flag}: invalid value '{text}': neither a number nor `free`{hint}"
+        ))
+    })?;
+    check(v)
+        .map(Parameter::Fixed)
+        .map_err(|e| usage(format!("{flag}: {e}")))
 }
 
 /// `--optimizer`.
@@ -137,10 +178,28 @@ impl FitOptionArgs {
             return Err(usage("--walks must be a positive number of walks, got 0"));
         }
         let opts = FitOptions {
-            eta: check_eta_arg(self.eta)?,
+            eta: parameter("--eta", &self.eta, |e| {
+                stfit_core::error::check_eta(e).map_err(|e| e.to_string())
+            })?,
+            scale: parameter("--scale", &self.scale, |s| {
+                if s.is_finite() && s > 0.0 {
+                    Ok(s)
+                } else {
+                    Err(format!("the scale must be finite and > 0, got {s}"))
+                }
+            })?,
             loss: match self.loss {
                 LossArg::Sqrt => Loss::Sqrt,
                 LossArg::Linear => Loss::Linear,
+                LossArg::Log => Loss::Log,
+            },
+            log_floor: if self.log_floor.is_finite() && self.log_floor > 0.0 {
+                self.log_floor
+            } else {
+                return Err(usage(format!(
+                    "--log-floor: the floor must be finite and > 0, got {}",
+                    self.log_floor
+                )));
             },
             optimizer: match self.optimizer {
                 OptimizerArg::NelderMead => Optimizer::NelderMead,
@@ -159,21 +218,24 @@ impl FitOptionArgs {
 /// Runs the fit command.
 pub fn run(args: FitArgs) -> CmdResult {
     args.retired.check()?;
-    let path = args
-        .data
-        .as_deref()
-        .ok_or_else(|| usage("a DATA file is required"))?;
+    if args.data.is_empty() {
+        return Err(usage("a DATA file is required"));
+    }
     let specs = args.options.specs()?;
     let opts = args.options.fit_options()?;
     if let Some(out) = &args.out {
-        if same_file(out, path) {
+        if let Some(path) = args.data.iter().find(|p| same_file(out, p)) {
             return Err(usage(format!(
-                "--out {} is the data file; refusing to overwrite it",
-                out.display()
+                "--out {} is the data file {}; refusing to overwrite it",
+                out.display(),
+                path.display()
             )));
         }
     }
-    let data = selected(Dataset::load(path).map_err(failed)?, args.sample.as_deref())?;
+    let data = selected(
+        load_paths(&args.data).map_err(failed)?,
+        args.sample.as_deref(),
+    )?;
     let fits = fit_with_progress(&data, &specs, &opts, !args.json)?;
     let json = || FitsFile::new(fits.clone()).to_json();
     if let Some(out) = &args.out {

@@ -14,9 +14,9 @@ use super::{CmdError, CmdResult, Retired, failed, print_stdout, usage};
 /// Arguments of `stfit report`.
 #[derive(Debug, Clone, Args)]
 pub struct ReportArgs {
-    /// Measurement file (see data-format.md).
-    #[arg(value_name = "DATA")]
-    pub data: PathBuf,
+    /// Measurement files or folders (see data-format.md).
+    #[arg(value_name = "DATA", required = true, num_args = 1..)]
+    pub data: Vec<PathBuf>,
     /// Folder for the figures and fits.md (created if missing; files in it are replaced).
     #[arg(long, value_name = "DIR", default_value = "report")]
     pub out: PathBuf,
@@ -27,9 +27,9 @@ pub struct ReportArgs {
     /// instead of fitting the four models first.
     #[arg(long, value_name = "FILE.json")]
     pub fits: Option<PathBuf>,
-    /// Vertical axis: sqrt(L) (the published view) or L.
-    #[arg(long, value_enum, default_value_t = ScaleArg::Sqrt)]
-    pub scale: ScaleArg,
+    /// Vertical axis of the plots: sqrt(L) (the published view) or L.
+    #[arg(long, value_enum, default_value_t = YAxisArg::Sqrt)]
+    pub y_axis: YAxisArg,
     /// How to fit first (without --fits); stored fits carry their own.
     #[command(flatten)]
     pub fit: FitOptionArgs,
@@ -37,9 +37,9 @@ pub struct ReportArgs {
     pub retired: Retired,
 }
 
-/// `--scale`.
+/// `--y-axis`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum ScaleArg {
+pub enum YAxisArg {
     /// sqrt(L), the published view.
     Sqrt,
     /// L.
@@ -51,9 +51,9 @@ pub enum ScaleArg {
 pub fn run(args: ReportArgs, given: &[String]) -> CmdResult {
     args.retired.check()?;
     let opts = ReportOptions {
-        y_scale: match args.scale {
-            ScaleArg::Sqrt => YScale::Sqrt,
-            ScaleArg::Linear => YScale::Linear,
+        y_scale: match args.y_axis {
+            YAxisArg::Sqrt => YScale::Sqrt,
+            YAxisArg::Linear => YScale::Linear,
         },
     };
     if args.fits.is_none() && (args.fit.model != ModelArg::StudentT || args.fit.gamma.is_some()) {
@@ -76,7 +76,7 @@ pub fn run(args: ReportArgs, given: &[String]) -> CmdResult {
         None => Source::Fit(args.fit.fit_options()?),
     };
     let data = selected(
-        Dataset::load(&args.data).map_err(failed)?,
+        stfit_fit::load_paths(&args.data).map_err(failed)?,
         args.sample.as_deref(),
     )?;
     let fits = match source {
@@ -84,7 +84,7 @@ pub fn run(args: ReportArgs, given: &[String]) -> CmdResult {
         Source::Fit(o) => fit_with_progress(&data, &all_models(), &o, true)?,
     };
     let report = stfit_report::render_report(&data, &fits, &opts)
-        .map_err(|e| failed(format!("{}: {e}", args.data.display())))?;
+        .map_err(|e| failed(format!("{}: {e}", data.source.display())))?;
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }

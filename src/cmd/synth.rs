@@ -4,12 +4,13 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use stfit_core::ScatteringOrders;
+use stfit_fit::pabopto::{PabValue, write_pabopto};
 use stfit_fit::synth::{SynthSpec, parse_angle_list, write_csv, write_file};
-use stfit_fit::{DEFAULT_ETA, DEFAULT_WALKS, Gamma, Model, ModelKind, SynthError};
+use stfit_fit::{DEFAULT_ETA, DEFAULT_WALKS, Gamma, Grid, Model, ModelKind, SynthError};
 
 use super::{
-    CmdResult, MaskingArg, OrdersArg, Retired, check_eta_arg, failed, masking_of, print_stdout,
-    usage,
+    CmdError, CmdResult, MaskingArg, OrdersArg, Retired, check_eta_arg, failed, masking_of,
+    print_stdout, usage,
 };
 
 /// Arguments of `stfit synth`.
@@ -43,13 +44,31 @@ pub struct SynthArgs {
     /// Seed of the noise; the same seed and arguments give the same file.
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub seed: u64,
-    /// Incidence angles in degrees, [0, 90): a comma list of numbers and start:stop:step ranges.
-    #[arg(long, value_name = "LIST", default_value = "0,30,60,80")]
-    pub theta_i: String,
-    /// Directions inside the glass in degrees, (90, 270), 180 straight through: a comma list of
-    /// numbers and inclusive start:stop:step ranges.
-    #[arg(long, value_name = "LIST", default_value = "106:254:2")]
-    pub theta_o: String,
+    /// The grid: in-plane (the Walter form, L) or general (any direction pairs on both sides,
+    /// reflection and transmission, the BSDF).
+    #[arg(long, value_enum, default_value_t = GridArg::InPlane)]
+    pub grid: GridArg,
+    /// Incidence angles in degrees: a comma list of numbers and inclusive start:stop:step
+    /// ranges. In-plane: in [0, 90) [default: 0,30,60,80]; general: polar angles of the
+    /// direction toward the light in [0, 180] without 90, above 90 from inside the glass
+    /// [default: 0,30,60,120,150].
+    #[arg(long, value_name = "LIST")]
+    pub theta_i: Option<String>,
+    /// Azimuths of the incidence directions in degrees (general grid) [default: 0].
+    #[arg(long, value_name = "LIST")]
+    pub phi_i: Option<String>,
+    /// Outgoing directions in degrees. In-plane: inside the glass in (90, 270), 180 straight
+    /// through [default: 106:254:2]; general: polar angles toward the detector in [0, 180]
+    /// without 90 [default: 5:175:10].
+    #[arg(long, value_name = "LIST")]
+    pub theta_o: Option<String>,
+    /// Azimuths of the outgoing directions in degrees (general grid) [default: 0:340:20].
+    #[arg(long, value_name = "LIST")]
+    pub phi_o: Option<String>,
+    /// Write the general grid as pab-opto goniophotometer files (one per incidence direction
+    /// and side, into the folder --out), with DSF (BSDF times |cos theta_o|) or BSDF values.
+    #[arg(long, value_enum, requires = "out")]
+    pub pabopto: Option<PabArg>,
     /// Relative index of refraction of the glass.
     #[arg(long, value_name = "E", default_value_t = DEFAULT_ETA, allow_negative_numbers = true)]
     pub eta: f64,
@@ -79,6 +98,25 @@ pub struct SynthArgs {
     pub retired: Retired,
 }
 
+/// `stfit synth --grid`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum GridArg {
+    /// In-plane transmission from the air (the Walter form): columns theta_i_deg,
+    /// theta_o_deg, L.
+    InPlane,
+    /// Any direction pairs: columns theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, bsdf.
+    General,
+}
+
+/// `stfit synth --pabopto`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PabArg {
+    /// `#format: theta phi DSF`.
+    Dsf,
+    /// `#format: theta phi BSDF`.
+    Bsdf,
+}
+
 /// `stfit synth --model`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum SynthModelArg {
@@ -101,14 +139,66 @@ impl From<SynthModelArg> for ModelKind {
 /// a file that cannot be written or appended to is a failure (1).
 pub fn run(args: SynthArgs) -> CmdResult {
     args.retired.check()?;
-    let angles =
-        |flag: &str, text: &str| parse_angle_list(text).map_err(|e| usage(format!("{flag}: {e}")));
+    let list = |flag: &str,
+                given: &Option<String>,
+                default: &str|
+     -> Result<(String, Vec<f64>), CmdError> {
+        let text = given.clone().unwrap_or_else(|| default.to_string());
+        let angles = parse_angle_list(&text).map_err(|e| usage(format!("{flag}: {e}")))?;
+        Ok((text, angles))
+    };
+    let (grid, grid_flags) = match args.grid {
+        GridArg::InPlane => {
+            for (given, flag) in [(&args.phi_i, "--phi-i"), (&args.phi_o, "--phi-o")] {
+                if given.is_some() {
+                    return Err(usage(format!("{flag} applies only to --grid general")));
+                }
+            }
+            if args.pabopto.is_some() {
+                return Err(usage(
+                    "--pabopto writes a general grid: it needs --grid general",
+                ));
+            }
+            let (ti_text, theta_i_deg) = list("--theta-i", &args.theta_i, "0,30,60,80")?;
+            let (to_text, theta_o_deg) = list("--theta-o", &args.theta_o, "106:254:2")?;
+            (
+                Grid::InPlane {
+                    theta_i_deg,
+                    theta_o_deg,
+                },
+                format!("--theta-i {ti_text} --theta-o {to_text}"),
+            )
+        }
+        GridArg::General => {
+            let (ti_text, theta_i_deg) = list("--theta-i", &args.theta_i, "0,30,60,120,150")?;
+            let (pi_text, phi_i_deg) = list("--phi-i", &args.phi_i, "0")?;
+            let (to_text, theta_o_deg) = list("--theta-o", &args.theta_o, "5:175:10")?;
+            let (po_text, phi_o_deg) = list("--phi-o", &args.phi_o, "0:340:20")?;
+            (
+                Grid::Spherical {
+                    theta_i_deg,
+                    phi_i_deg,
+                    theta_o_deg,
+                    phi_o_deg,
+                },
+                format!(
+                    "--grid general --theta-i {ti_text} --phi-i {pi_text} --theta-o {to_text} \
+                     --phi-o {po_text}"
+                ),
+            )
+        }
+    };
     let kind = ModelKind::from(args.model);
     let orders = ScatteringOrders::from(args.orders);
     if orders == ScatteringOrders::Multiple {
         return Err(usage(
             "--orders multiple (orders >= 2 only) models no measurement: synthesise --orders \
              single or all",
+        ));
+    }
+    if args.append && args.pabopto.is_some() {
+        return Err(usage(
+            "--append adds rows to a CSV file; pab-opto files are one per incidence",
         ));
     }
     let masking = masking_of(orders, args.masking)?;
@@ -125,8 +215,7 @@ pub fn run(args: SynthArgs) -> CmdResult {
             walks: walks.then_some(args.walks),
             seed: walks.then_some(args.seed),
         },
-        theta_i_deg: angles("--theta-i", &args.theta_i)?,
-        theta_o_deg: angles("--theta-o", &args.theta_o)?,
+        grid,
         noise: args.noise,
         seed: args.seed,
         name: args.sample.clone(),
@@ -136,36 +225,52 @@ pub fn run(args: SynthArgs) -> CmdResult {
     let gamma = args
         .gamma
         .map_or(String::new(), |g| format!(" --gamma {g}"));
+    let value = match args.grid {
+        GridArg::InPlane => "L = scale f_t cos(theta_i) / eta^2",
+        GridArg::General => "BSDF = scale f",
+    };
     let (orders_flags, model_line) = if walks {
         (
             format!(" --orders all --walks {}", args.walks),
-            "all-orders L = scale (f_single + f_multi) cos(theta_i) / eta^2, f_multi by the \
-             random walk",
+            format!("all orders: {value} with f = f_single + f_multi, f_multi by the random walk"),
         )
     } else {
-        (
-            String::new(),
-            "single-scattering L = scale f_t cos(theta_i) / eta^2",
-        )
+        (String::new(), format!("single scattering: {value}"))
     };
     let comment = format!(
         "stfit {} synth --model {} --alpha {}{gamma} --scale {} --noise {} --seed {} \
-         --theta-i {} --theta-o {} --eta {} --masking {}{orders_flags} --sample {}\n\
-         {model_line} with noise max(0, L (1 + noise z))",
+         {grid_flags} --eta {} --masking {}{orders_flags} --sample {}\n\
+         {model_line}, with noise max(0, v (1 + noise z))",
         env!("CARGO_PKG_VERSION"),
         kind.name(),
         args.alpha,
         args.scale,
         args.noise,
         args.seed,
-        args.theta_i,
-        args.theta_o,
         args.eta,
         masking.name(),
         args.sample,
     );
-    match &args.out {
-        Some(path) => {
+    match (&args.out, args.pabopto) {
+        (Some(dir), Some(form)) => {
+            let form = match form {
+                PabArg::Dsf => PabValue::Dsf,
+                PabArg::Bsdf => PabValue::Bsdf,
+            };
+            if args.sample.contains('"') {
+                return Err(usage(
+                    "--sample: a pab-opto sample name cannot hold a double quote",
+                ));
+            }
+            let paths = write_pabopto(dir, &sample, form, Some(&comment))
+                .map_err(|e| failed(format!("{}: cannot write: {e}", dir.display())))?;
+            let mut listing = String::new();
+            for p in paths {
+                listing.push_str(&format!("{}\n", p.display()));
+            }
+            print_stdout(&listing)
+        }
+        (Some(path), None) => {
             write_file(path, &[sample], Some(&comment), args.append).map_err(|e| match e {
                 SynthError::Append { .. } | SynthError::Io { .. } | SynthError::Load(_) => {
                     failed(e)
@@ -173,10 +278,9 @@ pub fn run(args: SynthArgs) -> CmdResult {
                 other => usage(other),
             })
         }
-        None => {
+        (None, _) => {
             let mut buf = Vec::new();
-            write_csv(&mut buf, &[sample], true, Some(&comment))
-                .map_err(|e| failed(format!("cannot format the rows: {e}")))?;
+            write_csv(&mut buf, &[sample], true, Some(&comment)).map_err(failed)?;
             print_stdout(&String::from_utf8_lossy(&buf))
         }
     }

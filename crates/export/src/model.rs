@@ -5,6 +5,7 @@ use stfit_core::Vec3;
 use stfit_core::bsdf::RoughDielectric;
 use stfit_core::ndf::AnyNdf;
 use stfit_core::walk::{DielectricFacet, Microsurface, ScatteringOrders};
+use stfit_fit::data::Quantity;
 use stfit_fit::forward::Forward;
 use stfit_fit::{FitResult, Gamma, Model};
 
@@ -121,15 +122,15 @@ impl ExportModel {
         let m = &self.model;
         let forward = Forward::new(
             pairs,
-            q,
-            m.eta,
+            vec![Quantity::Bsdf; pairs.len()],
             m.masking,
             m.orders,
             m.walks.unwrap_or(0),
             m.seed.unwrap_or(0),
         )?;
         let mut out = Vec::with_capacity(pairs.len());
-        forward.unit_model(&self.ndf, &mut out)?;
+        forward.unit_model(&self.ndf, m.eta, &mut out)?;
+        out.iter_mut().zip(&q).for_each(|(v, q)| *v *= q);
         Ok(out)
     }
 }

@@ -6,9 +6,6 @@
 //! error of the file. The exported model is the example frosted Student-T fit. Without the
 //! environment the test says it did not run and passes, except under CI=true.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
 use stfit_core::Vec3;
 use stfit_core::bsdf::AnalyticBsdf;
 use stfit_core::quadrature::GaussLegendre;
@@ -18,28 +15,7 @@ use stfit_export::radiance::klems::{self, ring_of};
 use stfit_export::radiance::layer::{Layer, Pane, RoughFace, albedo};
 use stfit_export::radiance::{self, KlemsBsdf, LayerKind, QuadratureRule, RadianceOptions};
 use stfit_fit::{FitsFile, Masking, Model};
-use stfit_test_support::{CaseDir, project_root, under_ci};
-
-/// checkBSDF of the pyradiance environment under the build folder (.ci/python-env), if
-/// installed: `python-env/**/pyradiance/bin/checkBSDF`.
-fn check_bsdf() -> Option<PathBuf> {
-    let target = std::env::var_os("CARGO_TARGET_DIR")
-        .map_or_else(|| project_root().join("target"), PathBuf::from);
-    let mut stack = vec![target.join("python-env")];
-    while let Some(dir) = stack.pop() {
-        let candidate = dir.join("pyradiance/bin/checkBSDF");
-        if candidate.is_file() {
-            return Some(candidate);
-        }
-        for entry in std::fs::read_dir(&dir).ok()?.flatten() {
-            let p = entry.path();
-            if p.is_dir() && !p.is_symlink() {
-                stack.push(p);
-            }
-        }
-    }
-    None
-}
+use stfit_test_support::{CaseDir, Radiance, project_root};
 
 /// checkBSDF's "Max. Tot. Dir" per WINDOW block name.
 fn totals(output: &str) -> Vec<(&'static str, f64)> {
@@ -146,7 +122,7 @@ fn walk_albedo(layer: &impl Layer, front: bool, i: usize, n: u64) -> [f64; 4] {
 /// Writes the model's file, runs checkBSDF on it and compares; `albedo_of(front, patch)`
 /// gives stfit's own (same side, error, other side, error) for that patch.
 fn check(
-    checkbsdf: &Path,
+    rad: &Radiance,
     model: &ExportModel,
     opts: &RadianceOptions,
     albedo_of: impl Fn(bool, usize) -> [f64; 4],
@@ -154,7 +130,7 @@ fn check(
     let (xml, bsdf) = radiance::export(model, opts, "test").unwrap();
     let dir = CaseDir::new("checkbsdf");
     let file = dir.file("bsdf.xml", xml);
-    let out = Command::new(checkbsdf).arg(&file).output().unwrap();
+    let out = rad.command("checkBSDF").arg(&file).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),
@@ -207,14 +183,7 @@ fn check(
 
 #[test]
 fn checkbsdf_reads_exports_and_matches_stfit_albedo() {
-    let Some(checkbsdf) = check_bsdf() else {
-        assert!(
-            !under_ci(),
-            "CI=true but the build folder has no pyradiance environment: run .ci/python-env"
-        );
-        eprintln!(
-            "radiance_checkbsdf: did not run for want of target/python-env (run .ci/python-env)"
-        );
+    let Some(rad) = stfit_test_support::radiance("radiance_checkbsdf") else {
         return;
     };
     let fits = FitsFile::read(&project_root().join("fits/example-fits.json")).unwrap();
@@ -236,7 +205,7 @@ fn checkbsdf_reads_exports_and_matches_stfit_albedo() {
         },
         ..Default::default()
     };
-    let bsdf = check(&checkbsdf, &model, &interface, |front, i| {
+    let bsdf = check(&rad, &model, &interface, |front, i| {
         let a = interface_albedo(&model, front, i);
         [a[0], 0.0, a[1], 0.0]
     });
@@ -252,7 +221,7 @@ fn checkbsdf_reads_exports_and_matches_stfit_albedo() {
         ..Default::default()
     };
     let layer = Pane::new(RoughFace::all_orders(&model), model.eta(), 0.0).unwrap();
-    let bsdf = check(&checkbsdf, &model, &pane, |front, i| {
+    let bsdf = check(&rad, &model, &pane, |front, i| {
         walk_albedo(&layer, front, i, 40_000)
     });
     let (tf, rf) = (
@@ -286,7 +255,8 @@ fn checkbsdf_reads_exports_and_matches_stfit_albedo() {
     };
     let (xml, bsdf) = radiance::export(&all, &hybrid, "all").unwrap();
     let dir = CaseDir::new("checkbsdf-all");
-    let out = Command::new(&checkbsdf)
+    let out = rad
+        .command("checkBSDF")
         .arg(dir.file("all.xml", xml))
         .output()
         .unwrap();

@@ -18,13 +18,13 @@ use stfit_fit::{
 };
 use stfit_test_support::{project_root, walter_measurements};
 
-/// The usable points of a sample: `(theta_i, theta_o)` and the measured `L`.
+/// The usable points of an in-plane sample: `(theta_i, theta_o)` and the measured `L`.
 fn points(sample: &Sample) -> (Vec<(f64, f64)>, Vec<f64>) {
     sample
         .points
         .iter()
         .filter(|p| p.weight > 0.0)
-        .map(|p| ((p.theta_i_deg, p.theta_o_deg), p.l))
+        .map(|p| (p.in_plane_angles().expect("an in-plane sample"), p.value))
         .unzip()
 }
 
@@ -58,7 +58,7 @@ fn check(data: &Dataset) {
         let reference = Reference::standard(&model).unwrap();
         let ggx = Microfacet {
             ndf: Family1::Ggx,
-            eta: opts.eta,
+            eta: st.model.eta,
             smith: Smith::MitsubaSeparable,
             map: AlphaMap::Alpha,
             name: "alpha",
@@ -79,12 +79,12 @@ fn check(data: &Dataset) {
         let v = vray_translation(&model, &reference, &mut warnings).unwrap();
         let p: Vec<f64> = v.params.iter().map(|p| p.value).collect();
         let family = VRayGlass {
-            eta: opts.eta,
+            eta: st.model.eta,
             starts: [(0.5, 2.0); 2],
         };
         let gtr = family.build(&p).unwrap();
         let r_vray = rmse(
-            &target_l(&gtr, &angles, opts.eta, st.model.scale),
+            &target_l(&gtr, &angles, st.model.eta, st.model.scale),
             &measured,
         );
         println!(

@@ -32,11 +32,13 @@ fn sample() -> Sample {
         .iter()
         .zip(l)
         .enumerate()
-        .map(|(j, (&(ti, to), l))| Measurement {
-            theta_i_deg: ti,
-            theta_o_deg: to,
-            l: l * (1.0 + 0.02 * ((j % 75) as f64 * 1.7).sin()),
-            weight: 1.0,
+        .map(|(j, (&(ti, to), l))| {
+            Measurement::in_plane(
+                ti,
+                to,
+                l * (1.0 + 0.02 * ((j % 75) as f64 * 1.7).sin()),
+                1.0,
+            )
         })
         .collect();
     Sample {
@@ -86,5 +88,32 @@ fn bench_multiple(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench, bench_multiple);
+/// A general sample (reflection and transmission, light from both sides, out of plane: the
+/// default general grid of `stfit synth`, 1,620 points) fitted with free eta.
+fn bench_general(c: &mut Criterion) {
+    let truth = Model {
+        eta: 1.45,
+        ..truth()
+    };
+    let mut sample = stfit_fit::SynthSpec {
+        model: truth,
+        grid: stfit_fit::Grid::spherical_default(),
+        noise: 0.02,
+        seed: 1,
+        name: "general".into(),
+    }
+    .sample()
+    .unwrap();
+    sample.points.retain(|p| p.value > 0.0 || p.weight > 0.0);
+    let opts = FitOptions {
+        eta: stfit_fit::Parameter::Free,
+        ..FitOptions::default()
+    };
+    c.bench_function(
+        "fit student-t free gamma free eta, 1620 general points",
+        |b| b.iter(|| fit_sample(black_box(&sample), ModelSpec::student_t(), &opts).unwrap()),
+    );
+}
+
+criterion_group!(benches, bench, bench_multiple, bench_general);
 criterion_main!(benches);

@@ -1,8 +1,12 @@
-//! The in-plane measurement convention of Walter et al. 2007 (theory section 8,
-//! `data-format.md`): light comes from the air and hits the rough face in the plane of
-//! incidence at `theta_i`; `theta_o` is the direction of the transmitted light inside the glass,
-//! 180 degrees straight through; the measured quantity is
-//! `L = scale * f_t(wi, wo) * cos(theta_i) / eta^2`. Every rule about it is here, once.
+//! The angle conventions of measurement files (`data-format.md`), every rule once.
+//!
+//! - In-plane files (Walter et al. 2007, theory section 8): light comes from the air and hits
+//!   the rough face in the plane of incidence at `theta_i`; `theta_o` is the direction of the
+//!   transmitted light inside the glass, 180 degrees straight through; the measured quantity is
+//!   `L = scale * f_t(wi, wo) * cos(theta_i) / eta^2`.
+//! - General files: spherical coordinates in the surface frame, `theta` the polar angle from
+//!   the outside normal (+z) in [0, 180] with 90 excluded, `phi` the azimuth; the measured
+//!   quantity is `scale * f(wi, wo)`.
 
 use stfit_core::Vec3;
 use stfit_core::math::radians;
@@ -16,6 +20,30 @@ pub const THETA_I_RANGE: &str = "[0, 90)";
 
 /// The range of `theta_o_deg`, as messages state it.
 pub const THETA_O_RANGE: &str = "(90, 270)";
+
+/// The range of a general file's polar angles, as messages state it.
+pub const THETA_RANGE: &str = "[0, 180] with 90 excluded";
+
+/// Whether a general file's polar angle (degrees) is in [`THETA_RANGE`]: 90 (grazing) has no
+/// side.
+pub fn theta_in_range(theta_deg: f64) -> bool {
+    (0.0..=180.0).contains(&theta_deg) && theta_deg != 90.0
+}
+
+/// The unit direction of polar angle `theta_deg` from +z and azimuth `phi_deg`:
+/// `(sin theta cos phi, sin theta sin phi, cos theta)`.
+pub fn spherical_from_deg(theta_deg: f64, phi_deg: f64) -> Vec3 {
+    stfit_core::math::spherical_direction(radians(theta_deg), radians(phi_deg))
+}
+
+/// The spherical angles `((theta_i, phi_i), (theta_o, phi_o))` of an in-plane configuration:
+/// `wi` at azimuth 180 (the light comes from -x), `wo` at azimuth 0 when it leans forward
+/// (`theta_o > 180`) and 180 otherwise.
+pub fn in_plane_to_spherical(theta_i_deg: f64, theta_o_deg: f64) -> ((f64, f64), (f64, f64)) {
+    let lean = theta_o_deg - 180.0;
+    let phi_o = if lean > 0.0 { 0.0 } else { 180.0 };
+    ((theta_i_deg, 180.0), (180.0 - lean.abs(), phi_o))
+}
 
 /// Whether an incidence angle (degrees) is in [`THETA_I_RANGE`]: light from the outside,
 /// grazing excluded.

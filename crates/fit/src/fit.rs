@@ -46,15 +46,12 @@ use stfit_core::error::check_gamma;
 use stfit_core::walk::ScatteringOrders;
 use thiserror::Error;
 
-use crate::conventions::{
-    THETA_I_RANGE, THETA_O_RANGE, pair_from_deg, theta_i_in_range, theta_o_in_range,
-};
-use crate::data::{Dataset, Sample};
+use crate::data::{Dataset, Measured, Sample};
 use crate::forward::Forward;
 use crate::loss::{Projected, Projection, signed_sqrt};
 use crate::model::{Gamma, Model, ModelKind, ModelSpec, all_models};
 use crate::optimize::minimize;
-use crate::options::{FitOptions, Loss};
+use crate::options::{ETA_MAX, ETA_MIN, FitOptions, Loss, Parameter};
 use crate::result::FitResult;
 
 /// Smallest roughness the search reaches.
@@ -71,6 +68,8 @@ pub const GAMMA_EXCESS_MAX: f64 = 500.0;
 const ALPHA_GRID: [f64; 8] = [0.02, 0.04, 0.07, 0.12, 0.2, 0.35, 0.6, 1.0];
 /// Shape values of the starting grid (free-gamma Student-T).
 const GAMMA_GRID: [f64; 5] = [1.7, 2.2, 3.2, 6.0, 20.0];
+/// Glass indices of the starting grid (free eta).
+const ETA_GRID: [f64; 4] = [1.3, 1.45, 1.6, 1.8];
 /// Local optimisations are started from at most this many grid local minima.
 const MAX_STARTS: usize = 3;
 
@@ -132,9 +131,11 @@ pub struct DatasetFitError {
 struct Prepared<'a> {
     sample: &'a Sample,
     forward: Forward,
-    /// Measured `L` of the usable points.
-    l: Vec<f64>,
+    /// Measured values of the usable points.
+    v: Vec<f64>,
     w: Vec<f64>,
+    /// What the usable points measure.
+    measured: Measured,
 }
 
 impl<'a> Prepared<'a> {
@@ -146,7 +147,8 @@ impl<'a> Prepared<'a> {
             reason,
         };
         let mut pairs = Vec::with_capacity(sample.points.len());
-        let (mut l, mut w) = (Vec::new(), Vec::new());
+        let mut quantity = Vec::with_capacity(sample.points.len());
+        let (mut v, mut w) = (Vec::new(), Vec::new());
         for (index, p) in sample.points.iter().enumerate() {
             if !(p.weight.is_finite() && p.weight >= 0.0) {
                 return Err(invalid(
@@ -157,34 +159,22 @@ impl<'a> Prepared<'a> {
             if p.weight == 0.0 {
                 continue;
             }
-            if !p.l.is_finite() {
-                return Err(invalid(index, format!("L must be finite, got {}", p.l)));
-            }
-            if !theta_i_in_range(p.theta_i_deg) {
+            if !p.value.is_finite() {
                 return Err(invalid(
                     index,
-                    format!(
-                        "theta_i must be in {THETA_I_RANGE} degrees, got {}",
-                        p.theta_i_deg
-                    ),
+                    format!("{} must be finite, got {}", p.quantity().name(), p.value),
                 ));
             }
-            if !theta_o_in_range(p.theta_o_deg) {
-                return Err(invalid(
-                    index,
-                    format!(
-                        "theta_o must be in {THETA_O_RANGE} degrees, got {}",
-                        p.theta_o_deg
-                    ),
-                ));
-            }
-            pairs.push(pair_from_deg(p.theta_i_deg, p.theta_o_deg));
-            l.push(p.l);
+            p.check_angles().map_err(|reason| invalid(index, reason))?;
+            pairs.push(p.directions());
+            quantity.push(p.quantity());
+            v.push(p.value);
             w.push(p.weight);
         }
-        let forward = Forward::in_plane(
+        let measured = Measured::of(quantity.iter().copied());
+        let forward = Forward::new(
             &pairs,
-            opts.eta,
+            quantity,
             opts.masking,
             opts.orders,
             opts.walks,
@@ -193,66 +183,118 @@ impl<'a> Prepared<'a> {
         Ok(Self {
             sample,
             forward,
-            l,
+            v,
             w,
+            measured,
         })
     }
 }
 
-/// The shape parameters searched for one model specification.
+/// A point of the shape search: roughness, shape and glass index.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Point {
+    alpha: f64,
+    gamma: Gamma,
+    eta: f64,
+}
+
+/// The parameters searched for one model specification.
 #[derive(Debug, Clone, Copy)]
 struct Shape {
     kind: ModelKind,
     gamma: Gamma<()>,
+    eta: Parameter,
 }
 
 impl Shape {
-    fn new(spec: ModelSpec) -> Result<Self, FitError> {
+    fn new(spec: ModelSpec, opts: &FitOptions) -> Result<Self, FitError> {
         if let Gamma::Fixed(g) = spec.gamma() {
             check_gamma(g)?;
         }
         Ok(Self {
             kind: spec.kind(),
             gamma: spec.gamma(),
+            eta: opts.eta,
         })
     }
 
     /// Number of searched coordinates.
     fn dims(&self) -> usize {
-        if self.gamma.is_free() { 2 } else { 1 }
+        1 + usize::from(self.gamma.is_free()) + usize::from(self.eta.is_free())
     }
 
-    /// `(alpha, gamma)` of search coordinates, clamped to the search box.
-    fn params(&self, x: &[f64]) -> (f64, Gamma) {
-        let alpha = x[0].clamp(ALPHA_MIN.ln(), ALPHA_MAX.ln()).exp();
+    /// The point of search coordinates `x`, clamped to the search box.
+    fn point(&self, x: &[f64]) -> Point {
+        let mut k = 0;
+        let mut next = |lo: f64, hi: f64| {
+            let v = x[k].clamp(lo.ln(), hi.ln()).exp();
+            k += 1;
+            v
+        };
+        let alpha = next(ALPHA_MIN, ALPHA_MAX);
         let gamma = match self.gamma {
             Gamma::NotApplicable => Gamma::NotApplicable,
             Gamma::Fixed(g) => Gamma::Fixed(g),
-            Gamma::Free(()) => Gamma::Free(
-                1.5 + x[1]
-                    .clamp(GAMMA_EXCESS_MIN.ln(), GAMMA_EXCESS_MAX.ln())
-                    .exp(),
-            ),
+            Gamma::Free(()) => Gamma::Free(1.5 + next(GAMMA_EXCESS_MIN, GAMMA_EXCESS_MAX)),
         };
-        (alpha, gamma)
+        let eta = match self.eta {
+            Parameter::Fixed(e) => e,
+            Parameter::Free => 1.0 + next(ETA_MIN - 1.0, ETA_MAX - 1.0),
+        };
+        Point { alpha, gamma, eta }
     }
 
-    fn coords(&self, alpha: f64, gamma: Gamma) -> Vec<f64> {
-        match gamma {
-            Gamma::Free(g) => vec![alpha.ln(), (g - 1.5).ln()],
-            Gamma::NotApplicable | Gamma::Fixed(_) => vec![alpha.ln()],
+    /// The search coordinates of a point.
+    fn coords(&self, p: Point) -> Vec<f64> {
+        let mut x = vec![p.alpha.ln()];
+        if let Gamma::Free(g) = p.gamma {
+            x.push((g - 1.5).ln());
         }
+        if self.eta.is_free() {
+            x.push((p.eta - 1.0).ln());
+        }
+        x
     }
 
-    /// The model at `(alpha, gamma, scale)` with the physics of `opts`.
-    fn model(&self, alpha: f64, gamma: Gamma, scale: f64, opts: &FitOptions) -> Model {
+    /// The starting grid: every combination of the grids of the searched parameters, as a
+    /// list of points and the grid's extent per searched axis.
+    fn grid(&self) -> (Vec<Point>, Vec<usize>) {
+        let gammas: Vec<Gamma> = match self.gamma {
+            Gamma::NotApplicable => vec![Gamma::NotApplicable],
+            Gamma::Fixed(g) => vec![Gamma::Fixed(g)],
+            Gamma::Free(()) => GAMMA_GRID.iter().map(|&g| Gamma::Free(g)).collect(),
+        };
+        let etas: Vec<f64> = match self.eta {
+            Parameter::Fixed(e) => vec![e],
+            Parameter::Free => ETA_GRID.to_vec(),
+        };
+        let mut points = Vec::new();
+        for &eta in &etas {
+            for &gamma in &gammas {
+                for &alpha in &ALPHA_GRID {
+                    points.push(Point { alpha, gamma, eta });
+                }
+            }
+        }
+        let mut extent = vec![ALPHA_GRID.len()];
+        if self.gamma.is_free() {
+            extent.push(gammas.len());
+        }
+        if self.eta.is_free() {
+            extent.push(etas.len());
+        }
+        (points, extent)
+    }
+
+    /// The model at `p` and `scale` with the physics of `opts`.
+    fn model(&self, p: Point, scale: f64, opts: &FitOptions) -> Model {
         let walks = opts.orders == ScatteringOrders::All;
         Model {
             kind: self.kind,
-            alpha,
-            gamma,
+            alpha: p.alpha,
+            gamma: p.gamma,
             scale,
-            eta: opts.eta,
+            eta: p.eta,
             masking: opts.masking,
             orders: opts.orders,
             walks: walks.then_some(opts.walks),
@@ -270,64 +312,70 @@ struct Evaluator<'p, 'a> {
 }
 
 impl Evaluator<'_, '_> {
-    /// Unit-scale model values at `(alpha, gamma)`.
-    fn unit_model(&self, alpha: f64, gamma: Gamma, m: &mut Vec<f64>) -> Result<(), FitError> {
-        let ndf = self.shape.model(alpha, gamma, 1.0, &self.opts).ndf()?;
-        self.prep.forward.unit_model(&ndf, m)?;
+    /// Unit-scale model values at `p`.
+    fn unit_model(&self, p: Point, m: &mut Vec<f64>) -> Result<(), FitError> {
+        let ndf = self.shape.model(p, 1.0, &self.opts).ndf()?;
+        self.prep.forward.unit_model(&ndf, p.eta, m)?;
         Ok(())
     }
 
-    /// Reduced cost and best amplitude at `(alpha, gamma)`.
-    fn project(&self, alpha: f64, gamma: Gamma) -> Result<Projection, FitError> {
+    /// Reduced cost and best scale at `p`.
+    fn project(&self, p: Point) -> Result<Projection, FitError> {
         let mut m = Vec::with_capacity(self.prep.forward.len());
-        self.unit_model(alpha, gamma, &mut m)?;
-        Ok(self.proj.project(&m, &mut Vec::with_capacity(m.len())))
+        self.unit_model(p, &mut m)?;
+        Ok(self.proj.project(&m))
     }
 
-    /// Reduced cost at search coordinates `x` (1, the zero model's cost, if the model is
-    /// invalid there; the clamped box makes that unreachable).
+    /// Reduced cost at search coordinates `x` (`+inf` if the model is invalid there; the
+    /// clamped box makes that unreachable).
     fn cost(&self, x: &[f64]) -> f64 {
-        let (alpha, gamma) = self.shape.params(x);
-        self.project(alpha, gamma).map_or(1.0, |p| p.cost)
+        self.project(self.shape.point(x))
+            .map_or(f64::INFINITY, |p| p.cost)
     }
 
-    /// Starting points: the grid points whose cost is below that of all grid neighbours, best
-    /// first, at most [`MAX_STARTS`].
+    /// Starting points: the grid points whose cost is below that of all their grid
+    /// neighbours, best first, at most [`MAX_STARTS`].
     fn starts(&self) -> Vec<Vec<f64>> {
-        let gammas: Vec<Gamma> = match self.shape.gamma {
-            Gamma::NotApplicable => vec![Gamma::NotApplicable],
-            Gamma::Fixed(g) => vec![Gamma::Fixed(g)],
-            Gamma::Free(()) => GAMMA_GRID.iter().map(|&g| Gamma::Free(g)).collect(),
-        };
-        let (na, ng) = (ALPHA_GRID.len(), gammas.len());
-        let costs: Vec<f64> = gammas
+        let (points, extent) = self.shape.grid();
+        let costs: Vec<f64> = points
             .iter()
-            .flat_map(|&g| ALPHA_GRID.iter().map(move |&a| (a, g)))
-            .map(|(a, g)| self.cost(&self.shape.coords(a, g)))
+            .map(|&p| self.cost(&self.shape.coords(p)))
             .collect();
-        let at = |i: usize, j: usize| costs[j * na + i];
-        let mut minima: Vec<(f64, usize, usize)> = Vec::new();
-        for j in 0..ng {
-            for i in 0..na {
-                let c = at(i, j);
-                let lower = |di: isize, dj: isize| {
-                    let (ii, jj) = (i as isize + di, j as isize + dj);
-                    if ii < 0 || jj < 0 || ii >= na as isize || jj >= ng as isize {
-                        false
-                    } else {
-                        at(ii as usize, jj as usize) < c
+        // Index of the grid point at multi-index `ix` (axis 0 fastest).
+        let flat = |ix: &[usize]| {
+            ix.iter()
+                .zip(&extent)
+                .rev()
+                .fold(0, |acc, (&i, &n)| acc * n + i)
+        };
+        let mut minima: Vec<(f64, usize)> = Vec::new();
+        for (k, &c) in costs.iter().enumerate() {
+            let mut ix = Vec::with_capacity(extent.len());
+            let mut rest = k;
+            for &n in &extent {
+                ix.push(rest % n);
+                rest /= n;
+            }
+            let lower_neighbour = (0..extent.len()).any(|axis| {
+                [-1isize, 1].iter().any(|&d| {
+                    let i = ix[axis] as isize + d;
+                    if i < 0 || i >= extent[axis] as isize {
+                        return false;
                     }
-                };
-                if !(lower(-1, 0) || lower(1, 0) || lower(0, -1) || lower(0, 1)) {
-                    minima.push((c, i, j));
-                }
+                    let mut nb = ix.clone();
+                    nb[axis] = i as usize;
+                    costs[flat(&nb)] < c
+                })
+            });
+            if !lower_neighbour {
+                minima.push((c, k));
             }
         }
         minima.sort_by(|a, b| a.0.total_cmp(&b.0));
         minima
             .iter()
             .take(MAX_STARTS)
-            .map(|&(_, i, j)| self.shape.coords(ALPHA_GRID[i], gammas[j]))
+            .map(|&(_, k)| self.shape.coords(points[k]))
             .collect()
     }
 }
@@ -338,7 +386,7 @@ pub fn fit_sample(
     spec: ModelSpec,
     opts: &FitOptions,
 ) -> Result<FitResult, FitError> {
-    let shape = Shape::new(spec)?;
+    let shape = Shape::new(spec, opts)?;
     let prep = Prepared::new(sample, opts)?;
     fit_prepared(&prep, shape, opts)
 }
@@ -348,7 +396,7 @@ pub fn fit_all(sample: &Sample, opts: &FitOptions) -> Result<Vec<FitResult>, Fit
     let prep = Prepared::new(sample, opts)?;
     all_models()
         .into_iter()
-        .map(|spec| fit_prepared(&prep, Shape::new(spec)?, opts))
+        .map(|spec| fit_prepared(&prep, Shape::new(spec, opts)?, opts))
         .collect()
 }
 
@@ -375,7 +423,7 @@ pub fn fit_dataset(
             Err(e) => return Err(fail(&specs[0], e)),
         };
         for spec in specs {
-            let mut fit = Shape::new(*spec)
+            let mut fit = Shape::new(*spec, opts)
                 .and_then(|shape| fit_prepared(&prep, shape, opts))
                 .map_err(|e| fail(spec, e))?;
             fit.data = Some(data.source.display().to_string());
@@ -388,8 +436,8 @@ pub fn fit_dataset(
 
 fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitResult, FitError> {
     let sample = &prep.sample.name;
-    let n = prep.l.len();
-    let p = shape.dims() + 1;
+    let n = prep.v.len();
+    let p = shape.dims() + usize::from(opts.scale.is_free());
     if n < p + 1 {
         return Err(FitError::TooFewPoints {
             sample: sample.clone(),
@@ -398,14 +446,14 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
             needed: p + 1,
         });
     }
-    if prep.l.iter().all(|&l| l == 0.0) {
+    if prep.v.iter().all(|&v| v == 0.0) {
         return Err(FitError::AllZero {
             sample: sample.clone(),
         });
     }
     let eval = Evaluator {
         prep,
-        proj: Projected::new(opts.loss, &prep.l, &prep.w),
+        proj: Projected::new(opts.loss, &prep.v, &prep.w, opts.log_floor, opts.scale),
         shape,
         opts: *opts,
     };
@@ -426,7 +474,12 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
             ..prep.clone()
         };
         let r = fit_prepared(&prep_single, shape, &single)?;
-        vec![shape.coords(r.model.alpha, r.model.gamma)]
+        let m = r.model;
+        vec![shape.coords(Point {
+            alpha: m.alpha,
+            gamma: m.gamma,
+            eta: m.eta,
+        })]
     } else {
         eval.starts()
     };
@@ -447,69 +500,77 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
         reason: last_err.map_or_else(|| "no starting point".into(), |e| e.to_string()),
     })?;
 
-    let (alpha, gamma) = shape.params(&best.x);
+    let point = shape.point(&best.x);
     let mut m = Vec::new();
-    eval.unit_model(alpha, gamma, &mut m)?;
-    let projection = eval.proj.project(&m, &mut Vec::new());
+    eval.unit_model(point, &mut m)?;
     if m.iter().all(|&m| m == 0.0) {
         return Err(FitError::NoSignal {
             sample: sample.clone(),
         });
     }
-    let scale = eval.proj.scale_of(projection.amplitude);
+    let scale = eval.proj.project(&m).scale;
     let rmse_sqrt_l = (prep
-        .l
+        .v
         .iter()
         .zip(&m)
-        .map(|(&l, &m)| (signed_sqrt(l) - (scale * m).sqrt()).powi(2))
+        .map(|(&v, &m)| (signed_sqrt(v) - (scale * m).sqrt()).powi(2))
         .sum::<f64>()
         / n as f64)
         .sqrt();
-    let stderr = standard_errors(&eval, alpha, gamma, scale, &m)?;
-    let known = |se: f64| se.is_finite().then_some(se);
+    let se = standard_errors(&eval, point, scale, &m)?;
     Ok(FitResult {
         sample: sample.clone(),
-        model: shape.model(alpha, gamma, scale, opts),
+        model: shape.model(point, scale, opts),
+        eta_fixed: !opts.eta.is_free(),
+        scale_fixed: !opts.scale.is_free(),
         loss: opts.loss,
+        log_floor: (opts.loss == Loss::Log).then_some(opts.log_floor),
         optimizer: opts.optimizer,
+        measured: prep.measured,
         rmse_sqrt_l,
         n_points: n,
-        alpha_stderr: known(stderr[0]),
-        gamma_stderr: if shape.gamma.is_free() {
-            known(stderr[1])
-        } else {
-            None
-        },
-        scale_stderr: known(stderr[stderr.len() - 1]),
+        alpha_stderr: se.alpha,
+        gamma_stderr: se.gamma,
+        eta_stderr: se.eta,
+        scale_stderr: se.scale,
         iterations,
         data: None,
         stfit_version: env!("CARGO_PKG_VERSION").to_owned(),
     })
 }
 
-/// Standard errors of `(alpha, [gamma], scale)` as in the module docs; `NaN` where the
-/// curvature does not determine a parameter.
+/// Standard errors of the fitted parameters; `None` for a parameter held fixed or absent, and
+/// wherever the curvature does not determine it.
+#[derive(Debug, Clone, Copy, Default)]
+struct StandardErrors {
+    alpha: Option<f64>,
+    gamma: Option<f64>,
+    eta: Option<f64>,
+    scale: Option<f64>,
+}
+
+/// Standard errors of `(alpha, [gamma], [eta], [scale])` as in the module docs.
 fn standard_errors(
     eval: &Evaluator,
-    alpha: f64,
-    gamma: Gamma,
+    p: Point,
     scale: f64,
     m: &[f64],
-) -> Result<Vec<f64>, FitError> {
-    let loss = eval.opts.loss;
-    let t = |x: f64| Projected::transform(loss, x);
+) -> Result<StandardErrors, FitError> {
+    let proj = &eval.proj;
     let n = m.len();
-    let sw: Vec<f64> = eval.proj.w.iter().map(|w| w.sqrt()).collect();
+    let sw: Vec<f64> = proj.w.iter().map(|w| w.sqrt()).collect();
 
     // Columns of J (up to sign): d T(scale m_j) / d theta_k, times sqrt(w_j).
     let mut cols: Vec<Vec<f64>> = Vec::new();
-    let mut fd_column = |a_plus: (f64, Gamma), a_minus: (f64, Gamma), h2: f64| {
+    let mut fd_column = |plus: Point, minus: Point, h2: f64| {
         let (mut mp, mut mm) = (Vec::new(), Vec::new());
-        eval.unit_model(a_plus.0, a_plus.1, &mut mp)?;
-        eval.unit_model(a_minus.0, a_minus.1, &mut mm)?;
+        eval.unit_model(plus, &mut mp)?;
+        eval.unit_model(minus, &mut mm)?;
         cols.push(
             (0..n)
-                .map(|j| sw[j] * (t(scale * mp[j]) - t(scale * mm[j])) / h2)
+                .map(|j| {
+                    sw[j] * (proj.transform(scale * mp[j]) - proj.transform(scale * mm[j])) / h2
+                })
                 .collect(),
         );
         Ok::<(), FitError>(())
@@ -521,36 +582,58 @@ fn standard_errors(
     } else {
         1e-4
     };
-    let ha = rel_step * alpha;
-    fd_column((alpha + ha, gamma), (alpha - ha, gamma), 2.0 * ha)?;
-    if let Gamma::Free(g) = gamma {
+    let ha = rel_step * p.alpha;
+    let at_alpha = |alpha| Point { alpha, ..p };
+    fd_column(at_alpha(p.alpha + ha), at_alpha(p.alpha - ha), 2.0 * ha)?;
+    if let Gamma::Free(g) = p.gamma {
         let hg = rel_step * (g - 1.5);
-        fd_column(
-            (alpha, Gamma::Free(g + hg)),
-            (alpha, Gamma::Free(g - hg)),
-            2.0 * hg,
-        )?;
+        let at_gamma = |g| Point {
+            gamma: Gamma::Free(g),
+            ..p
+        };
+        fd_column(at_gamma(g + hg), at_gamma(g - hg), 2.0 * hg)?;
     }
-    cols.push(
-        (0..n)
-            .map(|j| {
-                sw[j]
-                    * match loss {
-                        Loss::Sqrt => m[j].sqrt() / (2.0 * scale.sqrt()),
-                        Loss::Linear => m[j],
-                    }
-            })
-            .collect(),
-    );
-
-    let p = cols.len();
+    if eval.shape.eta.is_free() {
+        let he = rel_step * (p.eta - 1.0);
+        let at_eta = |eta| Point { eta, ..p };
+        fd_column(at_eta(p.eta + he), at_eta(p.eta - he), 2.0 * he)?;
+    }
+    let scale_free = proj.fixed_scale.is_none();
+    if scale_free {
+        cols.push(
+            (0..n)
+                .map(|j| sw[j] * proj.d_transform_d_scale(scale, m[j]))
+                .collect(),
+        );
+    }
     let residuals: Vec<f64> = (0..n)
-        .map(|j| sw[j] * (eval.proj.y[j] - t(scale * m[j])))
+        .map(|j| sw[j] * (proj.y[j] - proj.transform(scale * m[j])))
         .collect();
-    Ok(sandwich_covariance(&cols, &residuals).map_or_else(
-        || vec![f64::NAN; p],
-        |cov| (0..p).map(|k| cov[k][k].sqrt()).collect(),
-    ))
+    let Some(cov) = sandwich_covariance(&cols, &residuals) else {
+        return Ok(StandardErrors::default());
+    };
+    let mut se = (0..cols.len()).map(|k| {
+        let s = cov[k][k].sqrt();
+        s.is_finite().then_some(s)
+    });
+    Ok(StandardErrors {
+        alpha: se.next().flatten(),
+        gamma: if p.gamma.is_free() {
+            se.next().flatten()
+        } else {
+            None
+        },
+        eta: if eval.shape.eta.is_free() {
+            se.next().flatten()
+        } else {
+            None
+        },
+        scale: if scale_free {
+            se.next().flatten()
+        } else {
+            None
+        },
+    })
 }
 
 /// The HC1 heteroscedasticity-robust covariance of least-squares estimates,

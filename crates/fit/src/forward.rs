@@ -1,25 +1,28 @@
 //! The forward model of a sample: the model value at every measured direction pair for a given
-//! NDF, with everything that does not depend on the NDF computed once.
+//! NDF and glass index, with everything that depends on neither computed once.
 //!
 //! Every value is `q_j * f(wi_j, wo_j)` with `f` the rough dielectric's BSDF (Walter et al.
-//! 2007, reflection or transmission by the sides of the directions; theory section 5) and `q_j`
-//! the measured quantity per unit BSDF value (`cos(theta_i) / eta^2` for the in-plane `L` of
-//! [`crate::conventions`]). For one pair, with `h` the half vector,
+//! 2007, reflection or transmission by the sides of the directions, light from either side;
+//! theory section 5) and `q_j` the measured quantity per unit BSDF value: `cos(theta_i) / eta^2`
+//! for the `L` of an in-plane point, 1 for the BSDF of a general point
+//! ([`crate::data::Quantity`]). For one pair, with `h` the half vector,
 //!
 //! ```text
 //! f |wo.z| = K * G(wi, wo) * D(h),   K = |wi.h| |d omega_h / d omega_o| (F or 1 - F) / |wi.z|
 //! ```
 //!
-//! ([`HalfVector::walter_factor`]). `K` and `h` do not depend on the NDF, so [`Geometry`]
-//! computes them once; an evaluation then costs one `D` per point and one Smith `Lambda` per
-//! distinct direction (measurement grids share directions across incidences, and isotropy
-//! makes directions with the same `|cos|` and `|sin|` equivalent).
+//! ([`HalfVector::walter_factor`]). `K` and `h` do not depend on the NDF, so they are computed
+//! once per glass index (once per fit when eta is fixed); an evaluation then costs one `D` per
+//! point and one Smith `Lambda` per distinct direction (measurement grids share directions
+//! across incidences, and isotropy makes directions with the same `|cos|` and `|sin|`
+//! equivalent).
 //!
 //! For all orders the walk's orders >= 2 are added: one set of walks per incident direction
 //! with next-event estimation toward all its outgoing directions
 //! ([`stfit_core::walk::eval_pairs`]), seeded per direction (common random numbers).
 
 use std::collections::HashMap;
+use std::sync::OnceLock;
 
 use stfit_core::bsdf::{HalfVector, Masking, fresnel_dielectric};
 use stfit_core::error::check_eta;
@@ -27,41 +30,62 @@ use stfit_core::ndf::{AnyNdf, Ndf};
 use stfit_core::walk::{DielectricFacet, Microsurface, ScatteringOrders, eval_pairs};
 use stfit_core::{ParamError, Vec3};
 
-use crate::conventions::l_per_bsdf;
+use crate::data::Quantity;
 use crate::fit::FitError;
 
-/// NDF-independent geometry of one measured configuration.
+/// The eta-dependent geometry of one measured configuration.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct PointGeometry {
+struct PointTerms {
     /// Unit half vector with `h.z > 0`.
     h: Vec3,
     /// `K q / |wo.z|` (module docs): the model value is this times `G D(h)`; zero when no facet
     /// connects `wi` to `wo`.
     k: f64,
     reflect: bool,
-    /// Index of `wi` in [`Geometry::dirs`].
-    dir_i: usize,
-    /// Index of `wo` in [`Geometry::dirs`].
-    dir_o: usize,
 }
 
-/// Per-sample precomputation of the single-scattering model for everything that does not
-/// depend on the NDF.
+/// The per-point terms of one glass index.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Geometry {
-    points: Vec<PointGeometry>,
+struct Terms {
+    eta: f64,
+    points: Vec<PointTerms>,
+}
+
+/// The model of a set of measured configurations for any NDF of a family and any glass index:
+/// single scattering with the chosen masking, or all orders (height-correlated single
+/// scattering plus the walk's orders >= 2).
+#[derive(Debug, Clone)]
+pub struct Forward {
+    pairs: Vec<(Vec3, Vec3)>,
+    quantity: Vec<Quantity>,
+    /// Per pair, the indices of `wi` and `wo` in `dirs`.
+    dir_index: Vec<(usize, usize)>,
     /// Distinct directions, mirrored to `z >= 0` at azimuth 0, whose Smith `Lambda` is needed.
     dirs: Vec<Vec3>,
+    masking: Masking,
+    orders: ScatteringOrders,
+    walks: u64,
+    seed: u64,
+    /// The terms of the last glass index used, kept for the next evaluation at that index.
+    cache: OnceLock<Terms>,
 }
 
-impl Geometry {
-    /// The geometry of the pairs `(wi, wo)` for glass of relative index `eta`, with `q[j]` the
-    /// measured quantity per unit BSDF value of pair `j`.
-    pub fn new(pairs: &[(Vec3, Vec3)], q: &[f64], eta: f64) -> Result<Self, ParamError> {
-        let eta = check_eta(eta)?;
+impl Forward {
+    /// The model of the pairs `(wi, wo)` whose measured quantities are `quantity`; for `orders`
+    /// all, `walks` walks per incident direction from `seed`.
+    pub fn new(
+        pairs: &[(Vec3, Vec3)],
+        quantity: Vec<Quantity>,
+        masking: Masking,
+        orders: ScatteringOrders,
+        walks: u64,
+        seed: u64,
+    ) -> Result<Self, FitError> {
+        crate::options::check_orders(orders, masking)?;
+        assert_eq!(pairs.len(), quantity.len(), "one quantity per pair");
         let mut dirs = Vec::new();
         let mut index: HashMap<(u64, u64), usize> = HashMap::new();
-        let mut dir_index = |w: Vec3| -> usize {
+        let mut dir_of = |w: Vec3| -> usize {
             // Isotropy: Lambda depends on |cos| and |sin| only.
             let up = Vec3::new(w.x.hypot(w.y), 0.0, w.z.abs());
             *index
@@ -71,131 +95,20 @@ impl Geometry {
                     dirs.len() - 1
                 })
         };
-        let points = pairs
+        let dir_index = pairs
             .iter()
-            .zip(q)
-            .map(|(&(wi, wo), &q)| {
-                let (h, k, reflect) = match HalfVector::new(wi, wo, eta) {
-                    Some(hv) => {
-                        let f = fresnel_dielectric(hv.cos_ih, eta);
-                        (hv.h, hv.walter_factor(wi.z, f) * q / wo.z.abs(), hv.reflect)
-                    }
-                    None => (Vec3::z(), 0.0, wi.z * wo.z > 0.0),
-                };
-                PointGeometry {
-                    h,
-                    k,
-                    reflect,
-                    dir_i: dir_index(wi),
-                    dir_o: dir_index(wo),
-                }
-            })
+            .map(|&(wi, wo)| (dir_of(wi), dir_of(wo)))
             .collect();
-        Ok(Self { points, dirs })
-    }
-
-    /// Number of configurations.
-    pub fn len(&self) -> usize {
-        self.points.len()
-    }
-
-    /// True when there are no configurations.
-    pub fn is_empty(&self) -> bool {
-        self.points.is_empty()
-    }
-
-    /// Writes the unit-scale single-scattering model of every configuration into `out`
-    /// (resized to [`Geometry::len`]).
-    pub fn unit_model(&self, ndf: &AnyNdf, masking: Masking, out: &mut Vec<f64>) {
-        out.resize(self.points.len(), 0.0);
-        match ndf {
-            AnyNdf::Beckmann(n) => self.unit_model_with(n, masking, out),
-            AnyNdf::Ggx(n) => self.unit_model_with(n, masking, out),
-            AnyNdf::StudentT(n) => self.unit_model_with(n, masking, out),
-        }
-    }
-
-    fn unit_model_with<N: Ndf>(&self, ndf: &N, masking: Masking, out: &mut [f64]) {
-        // One Smith term per distinct direction: a = 1 + Lambda.
-        let terms: Vec<_> = self
-            .dirs
-            .iter()
-            .map(|&w| masking.term(1.0 + ndf.lambda(w)))
-            .collect();
-        for (p, o) in self.points.iter().zip(out.iter_mut()) {
-            *o = if p.k > 0.0 {
-                p.k * masking.g(p.reflect, terms[p.dir_i], terms[p.dir_o]) * ndf.d(p.h)
-            } else {
-                0.0
-            };
-        }
-    }
-}
-
-/// The orders >= 2 term of the model, by the height-field random walk (Heitz et al. 2016) on a
-/// dielectric microsurface with the NDF under test.
-#[derive(Debug, Clone, PartialEq)]
-struct WalkTerm {
-    pairs: Vec<(Vec3, Vec3)>,
-    /// `q / |wo.z|` per pair: the walk estimates `f |wo.z|`.
-    factor: Vec<f64>,
-    eta: f64,
-    walks: u64,
-    seed: u64,
-}
-
-impl WalkTerm {
-    /// Adds the unit-scale orders >= 2 model of every configuration to `out`.
-    fn add_unit_model(&self, ndf: &AnyNdf, out: &mut [f64]) -> Result<(), ParamError> {
-        let surface = Microsurface::new(*ndf, DielectricFacet::new(self.eta)?)
-            .with_orders(ScatteringOrders::Multiple);
-        let est = eval_pairs(&surface, &self.pairs, self.walks, self.seed);
-        for ((o, e), f) in out.iter_mut().zip(est).zip(&self.factor) {
-            *o += e.mean * f;
-        }
-        Ok(())
-    }
-}
-
-/// The model of a set of measured configurations for any NDF of a family: single scattering
-/// with the chosen masking, or all orders (height-correlated single scattering plus the walk's
-/// orders >= 2).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Forward {
-    geometry: Geometry,
-    masking: Masking,
-    walk: Option<WalkTerm>,
-}
-
-impl Forward {
-    /// The model of the pairs `(wi, wo)` with quantity per unit BSDF value `q`, for glass of
-    /// index `eta`; for `orders` all, `walks` walks per incident direction from `seed`.
-    pub fn new(
-        pairs: &[(Vec3, Vec3)],
-        q: Vec<f64>,
-        eta: f64,
-        masking: Masking,
-        orders: ScatteringOrders,
-        walks: u64,
-        seed: u64,
-    ) -> Result<Self, FitError> {
-        crate::options::check_orders(orders, masking)?;
-        let geometry = Geometry::new(pairs, &q, eta)?;
-        let walk = (orders == ScatteringOrders::All).then(|| WalkTerm {
+        Ok(Self {
             pairs: pairs.to_vec(),
-            factor: pairs
-                .iter()
-                .zip(&q)
-                .map(|((_, wo), q)| q / wo.z.abs())
-                .collect(),
-            eta,
+            quantity,
+            dir_index,
+            dirs,
+            masking,
+            orders,
             walks,
             seed,
-        });
-        Ok(Self {
-            geometry,
-            masking,
-            walk,
+            cache: OnceLock::new(),
         })
     }
 
@@ -203,47 +116,132 @@ impl Forward {
     /// [`crate::conventions`]) at the pairs `(wi, wo)`.
     pub fn in_plane(
         pairs: &[(Vec3, Vec3)],
-        eta: f64,
         masking: Masking,
         orders: ScatteringOrders,
         walks: u64,
         seed: u64,
     ) -> Result<Self, FitError> {
-        let q = pairs.iter().map(|(wi, _)| l_per_bsdf(*wi, eta)).collect();
-        Self::new(pairs, q, eta, masking, orders, walks, seed)
+        let quantity = vec![Quantity::L; pairs.len()];
+        Self::new(pairs, quantity, masking, orders, walks, seed)
     }
 
     /// Number of configurations.
     pub fn len(&self) -> usize {
-        self.geometry.len()
+        self.pairs.len()
     }
 
     /// True when there are no configurations.
     pub fn is_empty(&self) -> bool {
-        self.geometry.is_empty()
+        self.pairs.is_empty()
     }
 
     /// The single-scattering part of an all-orders model (height-correlated: the walk's order
     /// 1), or a single-scattering model itself.
     pub fn single_part(&self) -> Self {
         Self {
-            geometry: self.geometry.clone(),
-            masking: self.masking,
-            walk: None,
+            orders: ScatteringOrders::Single,
+            ..self.clone()
         }
     }
 
     /// Whether the model includes the walk's orders >= 2.
     pub fn has_walks(&self) -> bool {
-        self.walk.is_some()
+        self.orders == ScatteringOrders::All
     }
 
-    /// Writes the unit-scale model of every configuration into `out` (resized to
-    /// [`Forward::len`]).
-    pub fn unit_model(&self, ndf: &AnyNdf, out: &mut Vec<f64>) -> Result<(), ParamError> {
-        self.geometry.unit_model(ndf, self.masking, out);
-        if let Some(walk) = &self.walk {
-            walk.add_unit_model(ndf, out)?;
+    /// The measured quantity per unit BSDF value of pair `j` for glass index `eta`.
+    fn q(&self, j: usize, eta: f64) -> f64 {
+        match self.quantity[j] {
+            Quantity::L => crate::conventions::l_per_bsdf(self.pairs[j].0, eta),
+            Quantity::Bsdf => 1.0,
+        }
+    }
+
+    /// The per-point terms for `eta`.
+    fn terms(&self, eta: f64) -> Terms {
+        let points = self
+            .pairs
+            .iter()
+            .enumerate()
+            .map(|(j, &(wi, wo))| match HalfVector::new(wi, wo, eta) {
+                Some(hv) => {
+                    let f = fresnel_dielectric(hv.cos_ih, eta);
+                    PointTerms {
+                        h: hv.h,
+                        k: hv.walter_factor(wi.z, f) * self.q(j, eta) / wo.z.abs(),
+                        reflect: hv.reflect,
+                    }
+                }
+                None => PointTerms {
+                    h: Vec3::z(),
+                    k: 0.0,
+                    reflect: wi.z * wo.z > 0.0,
+                },
+            })
+            .collect();
+        Terms { eta, points }
+    }
+
+    /// Writes the unit-scale model of every configuration for glass of relative index `eta`
+    /// into `out` (resized to [`Forward::len`]).
+    pub fn unit_model(&self, ndf: &AnyNdf, eta: f64, out: &mut Vec<f64>) -> Result<(), ParamError> {
+        let eta = check_eta(eta)?;
+        out.resize(self.pairs.len(), 0.0);
+        let cached = self.cache.get_or_init(|| self.terms(eta));
+        let fresh;
+        let terms = if cached.eta == eta {
+            cached
+        } else {
+            fresh = self.terms(eta);
+            &fresh
+        };
+        match ndf {
+            AnyNdf::Beckmann(n) => self.single_with(n, terms, out),
+            AnyNdf::Ggx(n) => self.single_with(n, terms, out),
+            AnyNdf::StudentT(n) => self.single_with(n, terms, out),
+        }
+        if self.has_walks() {
+            self.add_walks(ndf, eta, out)?;
+        }
+        Ok(())
+    }
+
+    fn single_with<N: Ndf>(&self, ndf: &N, terms: &Terms, out: &mut [f64]) {
+        let masking = self.single_masking();
+        // One Smith term per distinct direction: a = 1 + Lambda.
+        let smith: Vec<_> = self
+            .dirs
+            .iter()
+            .map(|&w| masking.term(1.0 + ndf.lambda(w)))
+            .collect();
+        for ((p, &(i, o)), out) in terms.points.iter().zip(&self.dir_index).zip(out) {
+            *out = if p.k > 0.0 {
+                p.k * masking.g(p.reflect, smith[i], smith[o]) * ndf.d(p.h)
+            } else {
+                0.0
+            };
+        }
+    }
+
+    /// The masking of the single-scattering term: the model's, which for all orders is
+    /// height-correlated (the walk's order 1).
+    fn single_masking(&self) -> Masking {
+        if self.has_walks() {
+            Masking::Correlated
+        } else {
+            self.masking
+        }
+    }
+
+    /// Adds the unit-scale orders >= 2 of every configuration to `out`: the height-field random
+    /// walk (Heitz et al. 2016) on a dielectric microsurface of the NDF.
+    fn add_walks(&self, ndf: &AnyNdf, eta: f64, out: &mut [f64]) -> Result<(), ParamError> {
+        let surface = Microsurface::new(*ndf, DielectricFacet::new(eta)?)
+            .with_orders(ScatteringOrders::Multiple);
+        let est = eval_pairs(&surface, &self.pairs, self.walks, self.seed);
+        for (j, (o, e)) in out.iter_mut().zip(est).enumerate() {
+            // The walk estimates f |wo.z|.
+            *o += e.mean * self.q(j, eta) / self.pairs[j].1.z.abs();
         }
         Ok(())
     }
@@ -252,32 +250,34 @@ impl Forward {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::conventions::pair_from_deg;
+    use crate::conventions::{pair_from_deg, spherical_from_deg};
     use stfit_core::bsdf::{AnalyticBsdf, RoughDielectric};
     use stfit_core::ndf::{Beckmann, Ggx, StudentT};
 
+    fn ndfs() -> [AnyNdf; 4] {
+        [
+            Beckmann::new(0.3).unwrap().into(),
+            Ggx::new(0.3).unwrap().into(),
+            StudentT::new(0.3, 1.7).unwrap().into(),
+            StudentT::new(0.3, 6.0).unwrap().into(),
+        ]
+    }
+
     /// The precomputed geometry reproduces the core's rough dielectric, `f cos(theta_i) /
-    /// eta^2` per pair, for every NDF and masking, on a grid sharing directions.
+    /// eta^2` per in-plane pair, for every NDF and masking, on a grid sharing directions.
     #[test]
-    fn geometry_matches_the_rough_dielectric() {
+    fn in_plane_model_matches_the_rough_dielectric() {
         let pairs: Vec<_> = [0.0, 30.0, 60.0, 80.0]
             .iter()
             .flat_map(|&ti| (0..40).map(move |j| pair_from_deg(ti, 100.0 + 4.0 * j as f64)))
             .collect();
         let eta = 1.51;
-        let ndfs: [AnyNdf; 4] = [
-            Beckmann::new(0.3).unwrap().into(),
-            Ggx::new(0.3).unwrap().into(),
-            StudentT::new(0.3, 1.7).unwrap().into(),
-            StudentT::new(0.3, 6.0).unwrap().into(),
-        ];
         for masking in [Masking::Separable, Masking::Correlated] {
-            let fwd =
-                Forward::in_plane(&pairs, eta, masking, ScatteringOrders::Single, 0, 0).unwrap();
-            assert!(fwd.geometry.dirs.len() < pairs.len());
-            for ndf in ndfs {
+            let fwd = Forward::in_plane(&pairs, masking, ScatteringOrders::Single, 0, 0).unwrap();
+            assert!(fwd.dirs.len() < pairs.len());
+            for ndf in ndfs() {
                 let mut m = Vec::new();
-                fwd.unit_model(&ndf, &mut m).unwrap();
+                fwd.unit_model(&ndf, eta, &mut m).unwrap();
                 let bsdf = RoughDielectric::new(ndf, eta, masking).unwrap();
                 for (&(wi, wo), &m) in pairs.iter().zip(&m) {
                     let l = bsdf.f_cos(wi, wo) / wo.z.abs() * wi.z / (eta * eta);
@@ -286,6 +286,44 @@ mod tests {
                         "{ndf:?} {masking:?} {wi:?} {wo:?}: {m} vs {l}"
                     );
                 }
+            }
+        }
+    }
+
+    /// General pairs (reflection and transmission, light from either side, out of plane) are
+    /// the BSDF itself, at any glass index, the cached one or another.
+    #[test]
+    fn general_model_is_the_bsdf_at_any_eta() {
+        let mut pairs = Vec::new();
+        for ti in [10.0, 50.0, 130.0, 170.0] {
+            for to in [20.0, 60.0, 85.0, 95.0, 120.0, 160.0] {
+                for po in [0.0, 70.0, 180.0] {
+                    pairs.push((spherical_from_deg(ti, 180.0), spherical_from_deg(to, po)));
+                }
+            }
+        }
+        let q = vec![Quantity::Bsdf; pairs.len()];
+        let fwd = Forward::new(
+            &pairs,
+            q,
+            Masking::Separable,
+            ScatteringOrders::Single,
+            0,
+            0,
+        )
+        .unwrap();
+        for eta in [1.51, 1.33, 1.51, 2.2] {
+            for ndf in ndfs() {
+                let mut m = Vec::new();
+                fwd.unit_model(&ndf, eta, &mut m).unwrap();
+                let bsdf = RoughDielectric::new(ndf, eta, Masking::Separable).unwrap();
+                let mut nonzero = 0;
+                for (&(wi, wo), &m) in pairs.iter().zip(&m) {
+                    let f = bsdf.f_cos(wi, wo) / wo.z.abs();
+                    assert!((m - f).abs() <= 1e-13 * f.abs().max(1e-300), "{m} vs {f}");
+                    nonzero += usize::from(f > 0.0);
+                }
+                assert!(nonzero > pairs.len() / 2);
             }
         }
     }

@@ -9,19 +9,29 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
-use crate::conventions::{THETA_I_RANGE, THETA_O_RANGE, theta_i_in_range, theta_o_in_range};
+use crate::conventions::{
+    THETA_I_RANGE, THETA_O_RANGE, THETA_RANGE, theta_i_in_range, theta_in_range, theta_o_in_range,
+};
 use crate::data::{Dataset, Measurement, Sample};
 
 /// Name of the optional column holding the sample name.
 pub const COL_SAMPLE: &str = "sample";
-/// Name of the incidence-angle column (degrees from the outside, in [0, 90)).
+/// Name of the incidence-angle column (degrees: in [0, 90) from the outside in an in-plane
+/// file, the polar angle of the direction toward the light in a general file).
 pub const COL_THETA_I: &str = "theta_i_deg";
-/// Name of the transmitted-direction column (degrees inside the glass, in (90, 270)).
+/// Name of the outgoing-direction column (degrees: the transmitted direction inside the glass
+/// in (90, 270) in an in-plane file, the polar angle toward the detector in a general file).
 pub const COL_THETA_O: &str = "theta_o_deg";
 /// Name of the value column holding `L`.
 pub const COL_L: &str = "L";
 /// Name of the value column holding `sqrt(L)`.
 pub const COL_SQRT_L: &str = "sqrt_L";
+/// Name of a general file's azimuth of the direction toward the light (degrees).
+pub const COL_PHI_I: &str = "phi_i_deg";
+/// Name of a general file's azimuth of the direction toward the detector (degrees).
+pub const COL_PHI_O: &str = "phi_o_deg";
+/// Name of a general file's value column, the BSDF in 1/sr.
+pub const COL_BSDF: &str = "bsdf";
 /// Name of the optional least-squares weight column.
 pub const COL_WEIGHT: &str = "weight";
 
@@ -80,6 +90,14 @@ pub enum LoadErrorKind {
         "missing: exactly one value column 'L' or 'sqrt_L' is needed (the header has: {found})"
     )]
     MissingValueColumn { found: String },
+    /// A value column of the other file form: `bsdf` in an in-plane file, `L` or `sqrt_L` in a
+    /// general one.
+    #[error("{}", if *general {
+        "a general file (with phi_i_deg and phi_o_deg) gives the BSDF in a column 'bsdf', not L or sqrt_L"
+    } else {
+        "'bsdf' is the value column of general files, which have phi_i_deg and phi_o_deg"
+    })]
+    ValueOfOtherForm { general: bool },
     /// Both `L` and `sqrt_L` are in the header.
     #[error("'L' and 'sqrt_L' are both present; give exactly one value column")]
     BothValueColumns,
@@ -122,6 +140,34 @@ pub enum LoadErrorKind {
     /// A sample was requested from a file without a `sample` column.
     #[error("the file has no 'sample' column, so no sample named '{0}' can be selected")]
     NoSampleColumn(String),
+    /// A pab-opto header line after the first data line.
+    #[error("a header line after the data; every '#' line must come first")]
+    HeaderAfterData,
+    /// A pab-opto sample name without its double quotes.
+    #[error("the sample name must be in double quotes")]
+    Unquoted,
+    /// A pab-opto format or colorimetry this reader does not know.
+    #[error(
+        "'{0}' is not a known format (expected 'theta phi DSF' or 'theta phi BSDF', colorimetry CIE-Y or CIE-XYZ)"
+    )]
+    UnknownFormat(String),
+    /// A line with another number of fields than its format has.
+    #[error("{found} fields, expected {expected}")]
+    Fields { expected: usize, found: usize },
+    /// A pab-opto file without a `#format:` line.
+    #[error("missing: no '#format: theta phi DSF' (or BSDF) header line")]
+    NoFormat,
+    /// A pab-opto file without its incident direction.
+    #[error("missing: no '#intheta' and '#inphi' (or '#incident_angle') header lines")]
+    NoIncidence,
+    /// A pab-opto file with scattered directions on both sides of the surface.
+    #[error(
+        "on the other side of the surface from the file's first direction; a file holds one scattered hemisphere"
+    )]
+    BothSides,
+    /// A folder with nothing to read.
+    #[error("the folder holds no measurement files")]
+    EmptyFolder,
     /// A column that the command writes is already in its input.
     #[error("is written by stfit; the input must not have it")]
     Reserved,
@@ -144,11 +190,70 @@ impl LoadError {
     }
 }
 
-/// Reads and validates the measurement file at `path`.
+/// Reads and validates the measurement file at `path`: a CSV file (`data-format.md`, in-plane
+/// or general) or a pab-opto file ([`crate::pabopto`]), told apart by their contents; a
+/// folder is read as [`load_paths`] reads one.
 pub fn load_path(path: &Path) -> Result<Dataset, LoadError> {
-    let bytes = std::fs::read(path)
-        .map_err(|e| LoadError::new(path, None, None, LoadErrorKind::Io(e.to_string())))?;
-    load_bytes(path, &bytes)
+    load_paths(&[path.to_path_buf()])
+}
+
+/// Reads several measurement files and folders into one dataset: every file of a folder (in
+/// name order, hidden files left out), each a CSV or a pab-opto file, samples merged by name in
+/// order of first appearance. The dataset's source is the one path given, or the paths joined
+/// by `, `.
+pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
+    let io = |p: &Path, e: std::io::Error| {
+        LoadError::new(p, None, None, LoadErrorKind::Io(e.to_string()))
+    };
+    let mut files = Vec::new();
+    for path in paths {
+        if path.is_dir() {
+            let mut inside: Vec<PathBuf> = std::fs::read_dir(path)
+                .map_err(|e| io(path, e))?
+                .filter_map(Result::ok)
+                .map(|e| e.path())
+                .filter(|p| {
+                    p.is_file()
+                        && !p
+                            .file_name()
+                            .is_some_and(|n| n.to_string_lossy().starts_with('.'))
+                })
+                .collect();
+            if inside.is_empty() {
+                return Err(LoadError::new(path, None, None, LoadErrorKind::EmptyFolder));
+            }
+            inside.sort();
+            files.extend(inside);
+        } else {
+            files.push(path.clone());
+        }
+    }
+    let mut samples: Vec<Sample> = Vec::new();
+    for file in &files {
+        let bytes = std::fs::read(file).map_err(|e| io(file, e))?;
+        let parts = if crate::pabopto::is_pabopto(&bytes) {
+            let (name, points) = crate::pabopto::read_pabopto(file, &bytes)?;
+            vec![Sample { name, points }]
+        } else {
+            load_bytes(file, &bytes)?.samples
+        };
+        for part in parts {
+            match samples.iter_mut().find(|s| s.name == part.name) {
+                Some(s) => s.points.extend(part.points),
+                None => samples.push(part),
+            }
+        }
+    }
+    let source = match paths {
+        [one] => one.clone(),
+        many => PathBuf::from(
+            many.iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
+        ),
+    };
+    Ok(Dataset { source, samples })
 }
 
 /// Parses and validates measurement-file contents; `source` names them in errors.
@@ -353,17 +458,29 @@ fn strip_comments(bytes: &[u8]) -> Vec<u8> {
 enum ValueColumn {
     L,
     SqrtL,
+    Bsdf,
 }
 
-/// Field positions of the recognised columns.
+/// What a recognised column holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Role {
+    Sample,
+    ThetaI,
+    PhiI,
+    ThetaO,
+    PhiO,
+    Value(ValueColumn),
+    Weight,
+}
+
+/// Field positions and roles of the recognised columns, in field order, so that a row is
+/// checked left to right and its first bad field is the one reported.
 #[derive(Debug)]
 struct Header {
     len: usize,
-    sample: Option<usize>,
-    theta_i: usize,
-    theta_o: usize,
-    value: (usize, ValueColumn),
-    weight: Option<usize>,
+    /// Whether the file is a general one (it has `phi_i_deg` and `phi_o_deg`).
+    general: bool,
+    columns: Vec<(usize, Role)>,
     /// Every header name, for messages about extra fields.
     names: Vec<String>,
 }
@@ -376,14 +493,13 @@ impl Header {
                 .map(str::to_owned)
                 .collect();
         let found = names.join(", ");
+        let at = |column: &str, kind| LoadError::new(source, Some(line), Some(column), kind);
         let find = |wanted: &str| -> Result<Option<usize>, LoadError> {
             let mut hits = names.iter().enumerate().filter(|(_, n)| *n == wanted);
             let first = hits.next().map(|(i, _)| i);
             if let (Some(first), Some((second, _))) = (first, hits.next()) {
-                return Err(LoadError::new(
-                    source,
-                    Some(line),
-                    Some(wanted),
+                return Err(at(
+                    wanted,
                     LoadErrorKind::DuplicateColumn {
                         first: first + 1,
                         second: second + 1,
@@ -394,49 +510,65 @@ impl Header {
         };
         let required = |wanted: &str| -> Result<usize, LoadError> {
             find(wanted)?.ok_or_else(|| {
-                LoadError::new(
-                    source,
-                    Some(line),
-                    Some(wanted),
+                at(
+                    wanted,
                     LoadErrorKind::MissingColumn {
                         found: found.clone(),
                     },
                 )
             })
         };
-        let sample = find(COL_SAMPLE)?;
-        let theta_i = required(COL_THETA_I)?;
-        let theta_o = required(COL_THETA_O)?;
-        let value = match (find(COL_L)?, find(COL_SQRT_L)?) {
-            (Some(i), None) => (i, ValueColumn::L),
-            (None, Some(i)) => (i, ValueColumn::SqrtL),
-            (Some(_), Some(_)) => {
-                return Err(LoadError::new(
-                    source,
-                    Some(line),
-                    Some(COL_SQRT_L),
-                    LoadErrorKind::BothValueColumns,
-                ));
+        let (phi_i, phi_o) = (find(COL_PHI_I)?, find(COL_PHI_O)?);
+        let general = phi_i.is_some() || phi_o.is_some();
+        let mut columns = vec![
+            (required(COL_THETA_I)?, Role::ThetaI),
+            (required(COL_THETA_O)?, Role::ThetaO),
+        ];
+        let (l, sqrt_l, bsdf) = (find(COL_L)?, find(COL_SQRT_L)?, find(COL_BSDF)?);
+        if general {
+            columns.push((required(COL_PHI_I)?, Role::PhiI));
+            columns.push((required(COL_PHI_O)?, Role::PhiO));
+            if let Some(c) = l.map(|_| COL_L).or(sqrt_l.map(|_| COL_SQRT_L)) {
+                return Err(at(c, LoadErrorKind::ValueOfOtherForm { general: true }));
             }
-            (None, None) => {
-                return Err(LoadError::new(
-                    source,
-                    Some(line),
-                    Some("L or sqrt_L"),
-                    LoadErrorKind::MissingValueColumn {
+            let value = bsdf.ok_or_else(|| {
+                at(
+                    COL_BSDF,
+                    LoadErrorKind::MissingColumn {
                         found: found.clone(),
                     },
+                )
+            })?;
+            columns.push((value, Role::Value(ValueColumn::Bsdf)));
+        } else {
+            if bsdf.is_some() {
+                return Err(at(
+                    COL_BSDF,
+                    LoadErrorKind::ValueOfOtherForm { general: false },
                 ));
             }
-        };
-        let weight = find(COL_WEIGHT)?;
+            let value = match (l, sqrt_l) {
+                (Some(i), None) => (i, ValueColumn::L),
+                (None, Some(i)) => (i, ValueColumn::SqrtL),
+                (Some(_), Some(_)) => return Err(at(COL_SQRT_L, LoadErrorKind::BothValueColumns)),
+                (None, None) => {
+                    return Err(at(
+                        "L or sqrt_L",
+                        LoadErrorKind::MissingValueColumn {
+                            found: found.clone(),
+                        },
+                    ));
+                }
+            };
+            columns.push((value.0, Role::Value(value.1)));
+        }
+        columns.extend(find(COL_SAMPLE)?.map(|i| (i, Role::Sample)));
+        columns.extend(find(COL_WEIGHT)?.map(|i| (i, Role::Weight)));
+        columns.sort_unstable_by_key(|c| c.0);
         Ok(Self {
             len: names.len(),
-            sample,
-            theta_i,
-            theta_o,
-            value,
-            weight,
+            general,
+            columns,
             names,
         })
     }
@@ -469,69 +601,53 @@ impl Header {
                 },
             ));
         }
-        // Check the fields left to right so that the first bad one is reported.
-        let mut order = vec![self.theta_i, self.theta_o, self.value.0];
-        order.extend(self.sample);
-        order.extend(self.weight);
-        order.sort_unstable();
         let mut name = String::new();
-        let mut values = [0.0; 3];
-        let mut weight = 1.0;
-        for &i in &order {
-            if Some(i) == self.sample {
+        let (mut theta_i, mut phi_i, mut theta_o, mut phi_o) = (0.0, 0.0, 0.0, 0.0);
+        let (mut value, mut weight) = (0.0, 1.0);
+        for &(i, role) in &self.columns {
+            let column = self.names[i].as_str();
+            if role == Role::Sample {
                 if fields[i].is_empty() {
                     return Err(err(COL_SAMPLE, LoadErrorKind::EmptySampleName));
                 }
                 fields[i].clone_into(&mut name);
                 continue;
             }
-            let x = parse_finite(fields[i]).map_err(|kind| err(&self.names[i], kind))?;
-            if i == self.theta_i {
-                if !theta_i_in_range(x) {
-                    return Err(err(
-                        COL_THETA_I,
-                        LoadErrorKind::AngleOutOfRange {
-                            value: x,
-                            range: THETA_I_RANGE,
-                        },
-                    ));
-                }
-                values[0] = x;
-            } else if i == self.theta_o {
-                if !theta_o_in_range(x) {
-                    return Err(err(
-                        COL_THETA_O,
-                        LoadErrorKind::AngleOutOfRange {
-                            value: x,
-                            range: THETA_O_RANGE,
-                        },
-                    ));
-                }
-                values[1] = x;
-            } else {
-                if x < 0.0 {
-                    return Err(err(&self.names[i], LoadErrorKind::Negative(x)));
-                }
-                if i == self.value.0 {
-                    values[2] = match self.value.1 {
-                        ValueColumn::L => x,
-                        ValueColumn::SqrtL => x * x,
-                    };
+            let x = parse_finite(fields[i]).map_err(|kind| err(column, kind))?;
+            let range = |ok: bool, range: &'static str| {
+                if ok {
+                    Ok(x)
                 } else {
-                    weight = x;
+                    Err(err(
+                        column,
+                        LoadErrorKind::AngleOutOfRange { value: x, range },
+                    ))
                 }
+            };
+            match role {
+                Role::ThetaI if self.general => theta_i = range(theta_in_range(x), THETA_RANGE)?,
+                Role::ThetaI => theta_i = range(theta_i_in_range(x), THETA_I_RANGE)?,
+                Role::ThetaO if self.general => theta_o = range(theta_in_range(x), THETA_RANGE)?,
+                Role::ThetaO => theta_o = range(theta_o_in_range(x), THETA_O_RANGE)?,
+                Role::PhiI => phi_i = x,
+                Role::PhiO => phi_o = x,
+                Role::Value(_) | Role::Weight if x < 0.0 => {
+                    return Err(err(column, LoadErrorKind::Negative(x)));
+                }
+                Role::Value(ValueColumn::SqrtL) => value = x * x,
+                Role::Value(_) => value = x,
+                Role::Weight => weight = x,
+                Role::Sample => unreachable!("handled above"),
             }
         }
-        Ok((
-            name,
-            Measurement {
-                theta_i_deg: values[0],
-                theta_o_deg: values[1],
-                // `-0` is accepted as zero; store it as +0.
-                l: values[2] + 0.0,
-                weight: weight + 0.0,
-            },
-        ))
+        // `-0` is accepted as zero; store it as +0.
+        let (value, weight) = (value + 0.0, weight + 0.0);
+        let point = if self.general {
+            Measurement::spherical((theta_i, phi_i), (theta_o, phi_o), value, weight)
+        } else {
+            Measurement::in_plane(theta_i, theta_o, value, weight)
+        };
+        Ok((name, point))
     }
 }
 
@@ -582,6 +698,7 @@ impl Dataset {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::data::{Measured, Quantity};
 
     fn load(text: &str) -> Result<Dataset, LoadError> {
         load_bytes(Path::new("t.csv"), text.as_bytes())
@@ -599,12 +716,7 @@ mod tests {
         assert_eq!(d.samples[0].name, "");
         assert_eq!(
             d.samples[0].points[0],
-            Measurement {
-                theta_i_deg: 0.0,
-                theta_o_deg: 180.0,
-                l: 2.5,
-                weight: 1.0
-            }
+            Measurement::in_plane(0.0, 180.0, 2.5, 1.0)
         );
     }
 
@@ -616,10 +728,10 @@ mod tests {
         let names: Vec<_> = d.samples.iter().map(|s| s.name.as_str()).collect();
         assert_eq!(names, ["b", "a"]);
         assert_eq!(d.samples[0].points.len(), 2);
-        assert_eq!(d.samples[0].points[0].l, 0.25);
-        assert_eq!(d.samples[0].points[1].l, 0.0625);
-        assert_eq!(d.samples[0].points[1].theta_i_deg, 30.0);
-        assert_eq!(d.samples[1].points[0].l, 4.0);
+        assert_eq!(d.samples[0].points[0].value, 0.25);
+        assert_eq!(d.samples[0].points[1].value, 0.0625);
+        assert_eq!(d.samples[0].points[1].in_plane_angles().unwrap().0, 30.0);
+        assert_eq!(d.samples[1].points[0].value, 4.0);
     }
 
     #[test]
@@ -632,8 +744,8 @@ mod tests {
         let s = &d.samples[0];
         assert_eq!(s.name, "frosted, fine");
         assert_eq!(s.points.len(), 2);
-        assert_eq!(s.points[0].theta_o_deg, 170.5);
-        assert_eq!(s.points[0].l, 1e-3);
+        assert_eq!(s.points[0].in_plane_angles().unwrap().1, 170.5);
+        assert_eq!(s.points[0].value, 1e-3);
         assert_eq!(s.points[0].weight, 0.0);
         assert_eq!(s.points[1].weight, 2.5);
     }
@@ -798,7 +910,7 @@ mod tests {
     #[test]
     fn selecting_samples() {
         let d = load("sample,theta_i_deg,theta_o_deg,L\na,0,180,1\nb,0,180,2\n").unwrap();
-        assert_eq!(d.sample("b").unwrap().points[0].l, 2.0);
+        assert_eq!(d.sample("b").unwrap().points[0].value, 2.0);
         let e = d.sample("c").unwrap_err();
         assert_eq!(e.column.as_deref(), Some("sample"));
         assert_eq!(
@@ -821,5 +933,112 @@ mod tests {
             e.to_string()
                 .starts_with("/nonexistent/x.csv: cannot read the file")
         );
+    }
+
+    /// A general file: spherical angles on both sides, reflection and transmission, any
+    /// finite azimuth, the BSDF value column, and directions as the format defines them.
+    #[test]
+    fn general_files_read_spherical_directions_on_both_sides() {
+        let text = "sample,theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,bsdf,weight\n\
+                    g,30,0,30,180,2.5,1\n\
+                    g,30,0,160,-720.5,0.5,2\n\
+                    g,150,45,100,225,0,1\n";
+        let d = load(text).unwrap();
+        let points = &d.samples[0].points;
+        assert_eq!(points.len(), 3);
+        assert!(points.iter().all(|p| p.quantity() == Quantity::Bsdf));
+        assert_eq!(d.samples[0].measured(), Measured::Bsdf);
+        assert_eq!(
+            points[1],
+            Measurement::spherical((30.0, 0.0), (160.0, -720.5), 0.5, 2.0)
+        );
+        // Mirror reflection of light from outside: wo = (-wi.x, -wi.y, wi.z).
+        let (wi, wo) = points[0].directions();
+        let s = 30f64.to_radians().sin();
+        assert!((wi.x - s).abs() < 1e-15 && wi.y.abs() < 1e-15 && wi.z > 0.0);
+        assert!((wo.x + s).abs() < 1e-15 && (wo.z - wi.z).abs() < 1e-15);
+        // Light from inside the glass, scattered back inside: both z < 0.
+        let (wi, wo) = points[2].directions();
+        assert!(wi.z < 0.0 && wo.z < 0.0);
+        assert!((wi.x - wi.y).abs() < 1e-15 && wi.x > 0.0, "phi_i = 45");
+    }
+
+    /// The general form's own rules: polar angles in [0, 180] without 90, finite azimuths,
+    /// both azimuth columns, `bsdf` and not `L` or `sqrt_L` (and `bsdf` only there), each
+    /// error at its line and column.
+    #[test]
+    fn general_file_errors_name_line_and_column() {
+        let head = "theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,bsdf\n";
+        let at = |row: &str| kind_at(&format!("{head}0,0,170,0,1\n{row}\n"));
+        let (line, column, kind) = at("0,0,90,0,1");
+        assert_eq!((line, column.as_deref()), (Some(3), Some("theta_o_deg")));
+        assert!(matches!(kind, LoadErrorKind::AngleOutOfRange { value, .. } if value == 90.0));
+        for bad in ["180.5", "-1"] {
+            let (_, column, kind) = at(&format!("{bad},0,10,0,1"));
+            assert_eq!(column.as_deref(), Some("theta_i_deg"));
+            assert!(
+                matches!(kind, LoadErrorKind::AngleOutOfRange { .. }),
+                "{kind}"
+            );
+        }
+        let (_, column, kind) = at("0,inf,10,0,1");
+        assert_eq!(column.as_deref(), Some("phi_i_deg"));
+        assert_eq!(kind, LoadErrorKind::NonFinite("inf".into()));
+        let (_, column, kind) = at("0,0,10,nan,1");
+        assert_eq!(column.as_deref(), Some("phi_o_deg"));
+        assert_eq!(kind, LoadErrorKind::NonFinite("nan".into()));
+        let (_, column, kind) = at("0,0,10,0,-0.5");
+        assert_eq!(column.as_deref(), Some("bsdf"));
+        assert_eq!(kind, LoadErrorKind::Negative(-0.5));
+        let (_, column, kind) = kind_at("theta_i_deg,phi_i_deg,theta_o_deg,bsdf\n0,0,10,1\n");
+        assert_eq!(column.as_deref(), Some("phi_o_deg"));
+        assert!(matches!(kind, LoadErrorKind::MissingColumn { .. }));
+        let (_, column, kind) =
+            kind_at("theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,L\n0,0,10,0,1\n");
+        assert_eq!(column.as_deref(), Some("L"));
+        assert_eq!(kind, LoadErrorKind::ValueOfOtherForm { general: true });
+        let (_, column, kind) = kind_at("theta_i_deg,theta_o_deg,bsdf\n0,180,1\n");
+        assert_eq!(column.as_deref(), Some("bsdf"));
+        assert_eq!(kind, LoadErrorKind::ValueOfOtherForm { general: false });
+        let e = load(&format!("{head}0,0,90,0,1\n")).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t.csv:2: column 'theta_o_deg': 90 is out of range; must be in [0, 180] with 90 \
+             excluded"
+        );
+    }
+
+    /// Files and folders read together: samples merged by name in order of first appearance,
+    /// a folder's files in name order, hidden files left out, an empty folder refused.
+    #[test]
+    fn paths_and_folders_merge_samples_by_name() {
+        let dir = std::env::temp_dir().join(format!("stfit-load-paths-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("folder")).unwrap();
+        std::fs::create_dir_all(dir.join("empty")).unwrap();
+        let write = |name: &str, text: &str| std::fs::write(dir.join(name), text).unwrap();
+        write(
+            "a.csv",
+            "sample,theta_i_deg,theta_o_deg,L\nx,0,180,1\ny,0,180,2\n",
+        );
+        write(
+            "folder/2.csv",
+            "sample,theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,bsdf\nx,0,0,10,0,3\n",
+        );
+        write(
+            "folder/1.csv",
+            "sample,theta_i_deg,theta_o_deg,L\nz,0,180,4\n",
+        );
+        write("folder/.hidden", "not a measurement file");
+        let d = load_paths(&[dir.join("a.csv"), dir.join("folder")]).unwrap();
+        let names: Vec<_> = d.samples.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["x", "y", "z"]);
+        assert_eq!(d.samples[0].points.len(), 2);
+        assert_eq!(d.samples[0].measured(), Measured::Both);
+        let e = load_paths(&[dir.join("empty")]).unwrap_err();
+        assert_eq!(e.kind, LoadErrorKind::EmptyFolder);
+        let e = load_paths(&[dir.join("missing.csv")]).unwrap_err();
+        assert!(matches!(e.kind, LoadErrorKind::Io(_)), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -1,8 +1,13 @@
-//! The least-squares loss of one sample with the calibration scale projected out (variable
-//! projection): for given shape parameters the best scale is linear least squares, so the
-//! optimisers search only the shape.
+//! The least-squares loss of one sample, with the calibration scale projected out (variable
+//! projection): for given shape parameters the best scale is found in closed form (`sqrt` and
+//! `linear` losses) or by a one-dimensional Gauss-Newton solve (`log` loss), so the optimisers
+//! search only the shape.
+//!
+//! Weights enter only through their ratios (`data-format.md`): they are divided by their
+//! largest value on construction, so any positive common factor, however large or small, gives
+//! the same fit.
 
-use crate::options::Loss;
+use crate::options::{Loss, Parameter};
 
 /// `sign(x) sqrt(|x|)`: the square root extended to negative (noise-subtracted) values.
 #[inline]
@@ -10,90 +15,185 @@ pub fn signed_sqrt(x: f64) -> f64 {
     x.abs().sqrt().copysign(x)
 }
 
-/// The weighted least-squares problem of one sample under one loss: data `y_j` (`sqrt(L_j)` or
-/// `L_j`), weights `w_j`, and the model `y_j ~ c q_j` with `q_j` the unit-scale model
-/// transformed like the data and `c >= 0` the amplitude (`sqrt(scale)` or `scale`).
-///
-/// For given shape parameters the best amplitude is linear least squares,
-/// `c* = max(0, sum w y q / sum w q^2)` (variable projection), so the optimiser searches only
-/// the shape. The reduced cost is normalised by `sum w y^2`, so it lies in `[0, 1]`.
+/// The weighted least-squares problem of one sample under one loss: the measured values `v_j`
+/// seen through the loss's transform `T` (`y_j = T(v_j)`), weights `w_j`, and the model
+/// `T(scale m_j)` with `m_j` the unit-scale model.
 #[derive(Debug, Clone)]
 pub struct Projected {
     pub loss: Loss,
+    /// `T(v_j)`.
     pub y: Vec<f64>,
+    /// The weights divided by the largest.
     pub w: Vec<f64>,
-    /// `sum w y^2`, the cost of the zero model.
-    pub syy: f64,
+    /// The absolute floor of the log loss (zero for the others).
+    pub floor: f64,
+    /// The scale, if held fixed.
+    pub fixed_scale: Option<f64>,
+    /// The normaliser of the cost: `sum w y^2` (the zero model's cost) for `sqrt` and
+    /// `linear`, `sum w` for `log` (whose cost is then the weighted mean square).
+    pub norm: f64,
 }
 
-/// The best amplitude and the reduced cost of one model evaluation.
+/// The best scale and the reduced cost of one model evaluation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Projection {
-    /// `sqrt(scale)` (sqrt loss) or `scale` (linear loss).
-    pub amplitude: f64,
-    /// Residual sum of squares `sum w (y - c q)^2` divided by `sum w y^2`.
+    pub scale: f64,
+    /// Residual sum of squares `sum w (y - T(scale m))^2` divided by [`Projected::norm`].
     pub cost: f64,
 }
 
 impl Projected {
-    /// The problem for measured values `l` with weights `w`.
-    pub fn new(loss: Loss, l: &[f64], w: &[f64]) -> Self {
-        let y: Vec<f64> = l.iter().map(|&l| Self::transform(loss, l)).collect();
-        let syy = y.iter().zip(w).map(|(y, w)| w * y * y).sum();
-        Self {
-            loss,
-            y,
-            w: w.to_vec(),
-            syy,
-        }
-    }
-
-    /// The quantity the loss compares: `sqrt(L)` or `L`.
-    #[inline]
-    pub fn transform(loss: Loss, l: f64) -> f64 {
-        match loss {
-            Loss::Sqrt => signed_sqrt(l),
-            Loss::Linear => l,
-        }
-    }
-
-    /// The model scale for an amplitude.
-    pub fn scale_of(&self, amplitude: f64) -> f64 {
-        match self.loss {
-            Loss::Sqrt => amplitude * amplitude,
-            Loss::Linear => amplitude,
-        }
-    }
-
-    /// Projects the unit-scale model `m` (untransformed) onto the data; `q` is scratch space.
-    pub fn project(&self, m: &[f64], q: &mut Vec<f64>) -> Projection {
-        q.clear();
-        q.extend(m.iter().map(|&m| Self::transform(self.loss, m)));
-        let (mut syq, mut sqq) = (0.0, 0.0);
-        for ((y, q), w) in self.y.iter().zip(q.iter()).zip(&self.w) {
-            syq += w * y * q;
-            sqq += w * q * q;
-        }
-        let c = if sqq > 0.0 && syq > 0.0 {
-            syq / sqq
-        } else {
-            0.0
+    /// The problem for measured values `v` with weights `w` (finite, >= 0, not all zero);
+    /// `log_floor` is the log loss's floor relative to the largest value.
+    pub fn new(loss: Loss, v: &[f64], w: &[f64], log_floor: f64, scale: Parameter) -> Self {
+        let w_max = w.iter().copied().fold(0.0, f64::max);
+        let w: Vec<f64> = w.iter().map(|&w| w / w_max).collect();
+        let floor = match loss {
+            Loss::Log => log_floor * v.iter().copied().fold(0.0, f64::max),
+            Loss::Sqrt | Loss::Linear => 0.0,
         };
-        // The residual sum directly (not syy - syq^2/sqq) keeps near-exact fits accurate.
-        let rss: f64 = self
-            .y
+        let mut p = Self {
+            loss,
+            y: Vec::new(),
+            w,
+            floor,
+            fixed_scale: match scale {
+                Parameter::Fixed(s) => Some(s),
+                Parameter::Free => None,
+            },
+            norm: 1.0,
+        };
+        p.y = v.iter().map(|&v| p.transform(v)).collect();
+        p.norm = match loss {
+            Loss::Log => p.w.iter().sum(),
+            Loss::Sqrt | Loss::Linear => p.y.iter().zip(&p.w).map(|(y, w)| w * y * y).sum(),
+        };
+        if p.norm.is_nan() || p.norm <= 0.0 {
+            p.norm = 1.0;
+        }
+        p
+    }
+
+    /// The quantity the loss compares: `sqrt(v)`, `v` or `ln(v + floor)`.
+    #[inline]
+    pub fn transform(&self, v: f64) -> f64 {
+        match self.loss {
+            Loss::Sqrt => signed_sqrt(v),
+            Loss::Linear => v,
+            Loss::Log => (v.max(0.0) + self.floor).ln(),
+        }
+    }
+
+    /// `d T(scale m) / d scale`.
+    #[inline]
+    pub fn d_transform_d_scale(&self, scale: f64, m: f64) -> f64 {
+        match self.loss {
+            Loss::Sqrt => m.sqrt() / (2.0 * scale.sqrt()),
+            Loss::Linear => m,
+            Loss::Log => m / (scale * m + self.floor),
+        }
+    }
+
+    /// The weighted residual sum of squares of the model `m` at `scale`.
+    fn rss(&self, m: &[f64], scale: f64) -> f64 {
+        self.y
             .iter()
-            .zip(q.iter())
+            .zip(m)
             .zip(&self.w)
-            .map(|((y, q), w)| {
-                let r = y - c * q;
+            .map(|((y, &m), w)| {
+                let r = y - self.transform(scale * m);
                 w * r * r
             })
-            .sum();
+            .sum()
+    }
+
+    /// The best scale for the unit-scale model `m` (or the fixed one) and the reduced cost.
+    pub fn project(&self, m: &[f64]) -> Projection {
+        let scale = match self.fixed_scale {
+            Some(s) => s,
+            None => self.best_scale(m),
+        };
         Projection {
-            amplitude: c,
-            cost: if self.syy > 0.0 { rss / self.syy } else { 0.0 },
+            scale,
+            cost: self.rss(m, scale) / self.norm,
         }
+    }
+
+    /// The scale minimising the loss of `m`.
+    fn best_scale(&self, m: &[f64]) -> f64 {
+        match self.loss {
+            // Linear least squares in the amplitude c: sqrt(scale) or scale.
+            Loss::Sqrt | Loss::Linear => {
+                let (mut syq, mut sqq) = (0.0, 0.0);
+                for ((y, &m), w) in self.y.iter().zip(m).zip(&self.w) {
+                    let q = match self.loss {
+                        Loss::Sqrt => signed_sqrt(m),
+                        _ => m,
+                    };
+                    syq += w * y * q;
+                    sqq += w * q * q;
+                }
+                let c = if sqq > 0.0 && syq > 0.0 {
+                    syq / sqq
+                } else {
+                    0.0
+                };
+                match self.loss {
+                    Loss::Sqrt => c * c,
+                    _ => c,
+                }
+            }
+            Loss::Log => self.log_scale(m),
+        }
+    }
+
+    /// The log loss's best scale by Gauss-Newton in `c = ln(scale)`: the residual
+    /// `y - ln(e^c m + floor)` has derivative `-p`, `p = e^c m / (e^c m + floor)` in [0, 1),
+    /// so the steps are well conditioned; a step that raises the cost is halved.
+    fn log_scale(&self, m: &[f64]) -> f64 {
+        let sm: f64 = m.iter().zip(&self.w).map(|(m, w)| w * m).sum();
+        if sm.is_nan() || sm <= 0.0 {
+            return 0.0;
+        }
+        // Start from the ratio of the values' and the model's weighted sums.
+        let sv: f64 = self
+            .y
+            .iter()
+            .zip(&self.w)
+            .map(|(y, w)| w * (y.exp() - self.floor).max(0.0))
+            .sum();
+        let mut c = (sv.max(f64::MIN_POSITIVE) / sm).ln();
+        let mut cost = self.rss(m, c.exp());
+        for _ in 0..100 {
+            let s = c.exp();
+            let (mut g, mut h) = (0.0, 0.0);
+            for ((y, &m), w) in self.y.iter().zip(m).zip(&self.w) {
+                let sm = s * m;
+                let p = sm / (sm + self.floor);
+                let r = y - (sm + self.floor).ln();
+                g += w * r * p;
+                h += w * p * p;
+            }
+            if h.is_nan() || h <= 0.0 {
+                break;
+            }
+            let mut step = g / h;
+            let mut improved = false;
+            for _ in 0..60 {
+                let next = self.rss(m, (c + step).exp());
+                if next <= cost {
+                    c += step;
+                    cost = next;
+                    improved = true;
+                    break;
+                }
+                step *= 0.5;
+            }
+            if !improved || step.abs() < 1e-13 {
+                break;
+            }
+        }
+        c.exp()
     }
 }
 
@@ -101,16 +201,37 @@ impl Projected {
 mod tests {
     use super::*;
 
+    /// Exact data give back their scale and zero cost under every loss, free or fixed.
     #[test]
-    fn projection_recovers_amplitude_of_exact_data() {
-        let m = [0.5, 1.0, 2.0, 0.0];
-        let l: Vec<f64> = m.iter().map(|m| 3.0 * m).collect();
-        let w = [1.0; 4];
-        for loss in [Loss::Sqrt, Loss::Linear] {
-            let p = Projected::new(loss, &l, &w);
-            let proj = p.project(&m, &mut Vec::new());
-            assert!((p.scale_of(proj.amplitude) - 3.0).abs() < 1e-12);
-            assert!(proj.cost < 1e-24);
+    fn projection_recovers_the_scale_of_exact_data() {
+        let m = [0.5, 1.0, 2.0, 0.0, 1e-4];
+        let v: Vec<f64> = m.iter().map(|m| 3.0 * m).collect();
+        let w = [1.0; 5];
+        for loss in [Loss::Sqrt, Loss::Linear, Loss::Log] {
+            let p = Projected::new(loss, &v, &w, 1e-3, Parameter::Free);
+            let proj = p.project(&m);
+            assert!((proj.scale - 3.0).abs() < 1e-10, "{loss:?}: {}", proj.scale);
+            assert!(proj.cost < 1e-20, "{loss:?}: {}", proj.cost);
+            let fixed = Projected::new(loss, &v, &w, 1e-3, Parameter::Fixed(3.0)).project(&m);
+            assert_eq!(fixed.scale, 3.0);
+            assert!(fixed.cost < 1e-20);
+        }
+    }
+
+    /// Only ratios of weights matter: a common factor of 1e-300 or 1e300 changes nothing.
+    #[test]
+    fn a_common_weight_factor_changes_nothing() {
+        let m = [0.5, 1.0, 2.0, 0.3];
+        let v = [1.4, 3.3, 5.8, 1.0];
+        let w = [1.0, 2.0, 0.5, 1.0];
+        for loss in [Loss::Sqrt, Loss::Linear, Loss::Log] {
+            let base = Projected::new(loss, &v, &w, 1e-3, Parameter::Free).project(&m);
+            for k in [1e-300, 1e300] {
+                let wk: Vec<f64> = w.iter().map(|w| w * k).collect();
+                let p = Projected::new(loss, &v, &wk, 1e-3, Parameter::Free).project(&m);
+                assert!((p.scale / base.scale - 1.0).abs() < 1e-12, "{loss:?} x {k}");
+                assert!((p.cost / base.cost - 1.0).abs() < 1e-12, "{loss:?} x {k}");
+            }
         }
     }
 }

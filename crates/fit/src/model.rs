@@ -7,7 +7,7 @@ use stfit_core::bsdf::Masking;
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, StudentT};
 use stfit_core::walk::ScatteringOrders;
 
-use crate::conventions::pair_from_deg;
+use crate::data::Measurement;
 use crate::fit::FitError;
 use crate::forward::Forward;
 
@@ -315,22 +315,30 @@ impl Model {
     /// computed in one batch: the NDF-independent geometry once per pair, Smith `Lambda` once
     /// per distinct direction, the walks once per incidence angle.
     pub fn predict(&self, angles: &[(f64, f64)]) -> Result<Vec<f64>, FitError> {
-        self.check()?;
-        let pairs: Vec<_> = angles
+        let points: Vec<Measurement> = angles
             .iter()
-            .map(|&(ti, to)| pair_from_deg(ti, to))
+            .map(|&(ti, to)| Measurement::in_plane(ti, to, 0.0, 1.0))
             .collect();
-        let forward = Forward::in_plane(
+        self.predict_points(&points)
+    }
+
+    /// The model's value at every measured point, in that point's quantity (`L` of an in-plane
+    /// point, the BSDF of a general one), in one batch as [`Model::predict`].
+    pub fn predict_points(&self, points: &[Measurement]) -> Result<Vec<f64>, FitError> {
+        self.check()?;
+        let pairs: Vec<_> = points.iter().map(Measurement::directions).collect();
+        let quantity = points.iter().map(Measurement::quantity).collect();
+        let forward = Forward::new(
             &pairs,
-            self.eta,
+            quantity,
             self.masking,
             self.orders,
             self.walks.unwrap_or(0),
             self.seed.unwrap_or(0),
         )?;
         let mut out = Vec::with_capacity(pairs.len());
-        forward.unit_model(&self.ndf()?, &mut out)?;
-        out.iter_mut().for_each(|l| *l *= self.scale);
+        forward.unit_model(&self.ndf()?, self.eta, &mut out)?;
+        out.iter_mut().for_each(|v| *v *= self.scale);
         Ok(out)
     }
 }

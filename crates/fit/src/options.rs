@@ -13,24 +13,48 @@ use crate::fit::FitError;
 /// term, at every model evaluation (fits, `synth`, report curves).
 pub const DEFAULT_WALKS: u64 = 20_000;
 
-/// The loss minimised by a fit.
+/// Default floor of the log loss, relative to the largest measured value of a sample.
+pub const DEFAULT_LOG_FLOOR: f64 = 1e-3;
+
+/// The loss minimised by a fit, on the measured value `y` (`L` or the BSDF) and the model `m`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Loss {
-    /// Least squares on `sqrt(L)` (the published comparison's view).
+    /// Least squares on `sqrt(y)` (the published comparison's view).
     #[default]
     Sqrt,
-    /// Least squares on `L`.
+    /// Least squares on `y`.
     Linear,
+    /// Least squares on `ln(y + floor)`, `floor` = [`FitOptions::log_floor`] times the
+    /// sample's largest measured value: a relative loss for data spanning decades, where the
+    /// floor keeps values near zero (noise) from dominating.
+    Log,
 }
 
 impl Loss {
-    /// `sqrt` or `linear`.
+    /// `sqrt`, `linear` or `log`.
     pub fn name(self) -> &'static str {
         match self {
             Self::Sqrt => "sqrt",
             Self::Linear => "linear",
+            Self::Log => "log",
         }
+    }
+}
+
+/// A model parameter that a fit either holds at a value or fits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Parameter {
+    /// Held at this value.
+    Fixed(f64),
+    /// Fitted.
+    Free,
+}
+
+impl Parameter {
+    /// Whether the parameter is fitted.
+    pub fn is_free(self) -> bool {
+        self == Self::Free
     }
 }
 
@@ -53,12 +77,24 @@ impl Optimizer {
     }
 }
 
+/// Smallest glass index a free-eta fit reaches.
+pub const ETA_MIN: f64 = 1.05;
+/// Largest glass index a free-eta fit reaches.
+pub const ETA_MAX: f64 = 3.0;
+
 /// Settings shared by every fit in a run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FitOptions {
-    /// Relative index of the glass (default [`DEFAULT_ETA`]).
-    pub eta: f64,
+    /// Relative index of the glass `n_inside / n_outside`: held (default
+    /// [`DEFAULT_ETA`]) or fitted in `[ETA_MIN, ETA_MAX]`.
+    pub eta: Parameter,
+    /// The per-sample calibration scale: fitted (the default; calibration is rarely absolute)
+    /// or held at a value (`1` for absolutely calibrated data).
+    pub scale: Parameter,
     pub loss: Loss,
+    /// The floor of [`Loss::Log`], relative to the sample's largest measured value (default
+    /// [`DEFAULT_LOG_FLOOR`]).
+    pub log_floor: f64,
     pub optimizer: Optimizer,
     /// Smith masking: any for single scattering, correlated for all orders
     /// ([`ScatteringOrders::check_masking`]).
@@ -73,11 +109,14 @@ pub struct FitOptions {
 
 impl Default for FitOptions {
     /// Single scattering with separable masking, least squares on `sqrt(L)`, Nelder-Mead, eta
-    /// 1.51 ([`DEFAULT_ETA`]); [`DEFAULT_WALKS`] walks from seed 1 for orders all.
+    /// held at 1.51 ([`DEFAULT_ETA`]), the scale fitted; [`DEFAULT_WALKS`] walks from seed 1
+    /// for orders all.
     fn default() -> Self {
         Self {
-            eta: DEFAULT_ETA,
+            eta: Parameter::Fixed(DEFAULT_ETA),
+            scale: Parameter::Free,
             loss: Loss::Sqrt,
+            log_floor: DEFAULT_LOG_FLOOR,
             optimizer: Optimizer::NelderMead,
             masking: Masking::Separable,
             orders: ScatteringOrders::Single,
@@ -98,10 +137,26 @@ impl FitOptions {
         }
     }
 
-    /// Checks the options: a valid eta, orders single or all with a masking they allow, and at
-    /// least one walk for orders all.
+    /// Checks the options: a valid eta (fixed) or its search range, a finite scale > 0 if
+    /// fixed, a log floor > 0, orders single or all with a masking they allow, and at least one
+    /// walk for orders all.
     pub fn check(&self) -> Result<(), FitError> {
-        check_eta(self.eta)?;
+        if let Parameter::Fixed(eta) = self.eta {
+            check_eta(eta)?;
+        }
+        if let Parameter::Fixed(scale) = self.scale {
+            if !(scale.is_finite() && scale > 0.0) {
+                return Err(FitError::InvalidSpec(format!(
+                    "a fixed scale must be finite and > 0, got {scale}"
+                )));
+            }
+        }
+        if !(self.log_floor.is_finite() && self.log_floor > 0.0) {
+            return Err(FitError::InvalidSpec(format!(
+                "the log floor must be finite and > 0, got {}",
+                self.log_floor
+            )));
+        }
         check_orders(self.orders, self.masking)?;
         if self.orders == ScatteringOrders::All && self.walks == 0 {
             return Err(FitError::InvalidSpec(

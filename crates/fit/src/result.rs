@@ -8,6 +8,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::data::Measured;
 use crate::model::Model;
 use crate::options::{Loss, Optimizer};
 
@@ -20,9 +21,26 @@ pub struct FitResult {
     /// JSON, its keys sit beside the others).
     #[serde(flatten)]
     pub model: Model,
+    /// True when eta was held at its value rather than fitted (absent in files written before
+    /// eta could be fitted: true).
+    #[serde(default = "held")]
+    pub eta_fixed: bool,
+    /// True when the scale was held at its value rather than fitted (absent in files written
+    /// before it could be held: false).
+    #[serde(default)]
+    pub scale_fixed: bool,
     pub loss: Loss,
+    /// The floor of the log loss relative to the sample's largest value (`None` for the other
+    /// losses).
+    #[serde(default)]
+    pub log_floor: Option<f64>,
     pub optimizer: Optimizer,
-    /// Root-mean-square residual of `sqrt(L)` over the fitted points (weight > 0).
+    /// What the fitted points measure: `L`, the BSDF, or both (absent in files written before
+    /// general files: `L`).
+    #[serde(default)]
+    pub measured: Measured,
+    /// Root-mean-square residual of the square root of the measured quantity ([`Self::measured`])
+    /// over the fitted points (weight > 0); the key keeps its stfit 0.1 name.
     pub rmse_sqrt_l: f64,
     /// Number of fitted points.
     pub n_points: usize,
@@ -30,6 +48,8 @@ pub struct FitResult {
     /// where undefined: a fixed or absent parameter, or a curvature that does not determine it.
     pub alpha_stderr: Option<f64>,
     pub gamma_stderr: Option<f64>,
+    #[serde(default)]
+    pub eta_stderr: Option<f64>,
     pub scale_stderr: Option<f64>,
     /// Iterations of the local optimiser, summed over its starts.
     pub iterations: u64,
@@ -37,6 +57,11 @@ pub struct FitResult {
     pub data: Option<String>,
     /// The version of stfit that made the fit.
     pub stfit_version: String,
+}
+
+/// The value of `eta_fixed` in files written before eta could be fitted.
+fn held() -> bool {
+    true
 }
 
 impl FitResult {
@@ -144,5 +169,31 @@ impl FitsFile {
             source,
         })?;
         Self::from_json(&path.display().to_string(), &text)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A version-1 record written before eta and the scale could be fitted or held (no
+    /// `eta_fixed`, `scale_fixed`, `log_floor`, `eta_stderr`) reads as what it was: eta held,
+    /// the scale fitted.
+    #[test]
+    fn records_from_before_free_eta_read_with_eta_held() {
+        let text = r#"{"version": 1, "fits": [{
+            "sample": "s", "model": "ggx", "alpha": 0.2, "gamma": null, "gamma_fixed": false,
+            "scale": 1.5,
+            "eta": 1.51, "masking": "separable", "orders": "single", "walks": null,
+            "seed": null, "loss": "sqrt", "optimizer": "nelder-mead", "rmse_sqrt_l": 0.01,
+            "n_points": 10, "alpha_stderr": 0.001, "gamma_stderr": null,
+            "scale_stderr": 0.01, "iterations": 40, "data": "d.csv", "stfit_version": "0.2.0"
+        }]}"#;
+        let file = FitsFile::from_json("old.json", text).unwrap();
+        let fit = &file.fits[0];
+        assert!(fit.eta_fixed && !fit.scale_fixed);
+        assert_eq!((fit.log_floor, fit.eta_stderr), (None, None));
+        assert_eq!(fit.measured, Measured::L);
+        assert_eq!(fit.model.eta, 1.51);
     }
 }

@@ -9,17 +9,32 @@ use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64;
 use thiserror::Error;
 
-use crate::conventions::{THETA_I_RANGE, THETA_O_RANGE, theta_i_in_range, theta_o_in_range};
-use crate::data::{Measurement, Sample};
+use crate::conventions::{
+    THETA_I_RANGE, THETA_O_RANGE, THETA_RANGE, theta_i_in_range, theta_in_range, theta_o_in_range,
+};
+use crate::data::{Angles, Measurement, Sample};
 use crate::fit::FitError;
-use crate::load::{COL_L, COL_SAMPLE, COL_THETA_I, COL_THETA_O, LoadError, read_header};
+use crate::load::{
+    COL_BSDF, COL_L, COL_PHI_I, COL_PHI_O, COL_SAMPLE, COL_THETA_I, COL_THETA_O, LoadError,
+    read_header,
+};
 use crate::model::Model;
 
 /// Most points one synthetic sample may have (guards against a mistyped grid step).
 pub const MAX_POINTS: usize = 1_000_000;
 
-/// The header line [`write_csv`] writes.
+/// The header line [`write_csv`] writes for in-plane samples.
 pub const HEADER: [&str; 4] = [COL_SAMPLE, COL_THETA_I, COL_THETA_O, COL_L];
+
+/// The header line [`write_csv`] writes for general samples.
+pub const GENERAL_HEADER: [&str; 6] = [
+    COL_SAMPLE,
+    COL_THETA_I,
+    COL_PHI_I,
+    COL_THETA_O,
+    COL_PHI_O,
+    COL_BSDF,
+];
 
 /// An invalid synthesis request, or a file that cannot be written.
 #[derive(Debug, Error)]
@@ -56,6 +71,127 @@ pub enum SynthError {
     Append { path: String, reason: String },
     #[error("{path}: cannot write: {source}")]
     Io { path: String, source: io::Error },
+    /// In-plane and general samples in one file.
+    #[error("in-plane and general samples cannot share a file")]
+    MixedForms,
+}
+
+/// The angle grid of a synthetic sample.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Grid {
+    /// An in-plane grid (the Walter form): every incidence `theta_i` (outer loop, [0, 90)) with
+    /// every transmitted direction `theta_o` (inner loop, (90, 270)); the values are `L`.
+    InPlane {
+        theta_i_deg: Vec<f64>,
+        theta_o_deg: Vec<f64>,
+    },
+    /// A general grid: every incidence direction `(theta_i, phi_i)` (outer loops, theta outer)
+    /// with every outgoing direction `(theta_o, phi_o)` (inner loops), polar angles in [0, 180]
+    /// without 90, so both sides, reflection and transmission; the values are the BSDF.
+    Spherical {
+        theta_i_deg: Vec<f64>,
+        phi_i_deg: Vec<f64>,
+        theta_o_deg: Vec<f64>,
+        phi_o_deg: Vec<f64>,
+    },
+}
+
+impl Grid {
+    /// The Walter grid: incidence 0, 30, 60, 80; `theta_o` 106 to 254 by 2 (300 points).
+    pub fn in_plane_default() -> Self {
+        Self::InPlane {
+            theta_i_deg: vec![0.0, 30.0, 60.0, 80.0],
+            theta_o_deg: (0..75).map(|k| 106.0 + 2.0 * k as f64).collect(),
+        }
+    }
+
+    /// A general grid of 1,620 points: light from outside at 0, 30, 60 degrees and from inside
+    /// at 120, 150 (azimuth 0), outgoing polar angles 5 to 175 by 10 and azimuths 0 to 340 by 20.
+    pub fn spherical_default() -> Self {
+        Self::Spherical {
+            theta_i_deg: vec![0.0, 30.0, 60.0, 120.0, 150.0],
+            phi_i_deg: vec![0.0],
+            theta_o_deg: (0..18).map(|k| 5.0 + 10.0 * k as f64).collect(),
+            phi_o_deg: (0..18).map(|k| 20.0 * k as f64).collect(),
+        }
+    }
+
+    /// Checks every angle list: non-empty, each angle in its column's range.
+    fn check(&self) -> Result<(), SynthError> {
+        match self {
+            Self::InPlane {
+                theta_i_deg,
+                theta_o_deg,
+            } => {
+                check_angles(COL_THETA_I, theta_i_deg, THETA_I_RANGE, theta_i_in_range)?;
+                check_angles(COL_THETA_O, theta_o_deg, THETA_O_RANGE, theta_o_in_range)
+            }
+            Self::Spherical {
+                theta_i_deg,
+                phi_i_deg,
+                theta_o_deg,
+                phi_o_deg,
+            } => {
+                check_angles(COL_THETA_I, theta_i_deg, THETA_RANGE, theta_in_range)?;
+                check_angles(COL_PHI_I, phi_i_deg, "finite values", f64::is_finite)?;
+                check_angles(COL_THETA_O, theta_o_deg, THETA_RANGE, theta_in_range)?;
+                check_angles(COL_PHI_O, phi_o_deg, "finite values", f64::is_finite)
+            }
+        }
+    }
+
+    /// Number of points.
+    fn len(&self) -> usize {
+        match self {
+            Self::InPlane {
+                theta_i_deg,
+                theta_o_deg,
+            } => theta_i_deg.len().saturating_mul(theta_o_deg.len()),
+            Self::Spherical {
+                theta_i_deg,
+                phi_i_deg,
+                theta_o_deg,
+                phi_o_deg,
+            } => [theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg]
+                .iter()
+                .fold(1usize, |n, l| n.saturating_mul(l.len())),
+        }
+    }
+
+    /// The grid's points with value 0 and weight 1, in row order.
+    fn points(&self) -> Vec<Measurement> {
+        match self {
+            Self::InPlane {
+                theta_i_deg,
+                theta_o_deg,
+            } => theta_i_deg
+                .iter()
+                .flat_map(|&ti| {
+                    theta_o_deg
+                        .iter()
+                        .map(move |&to| Measurement::in_plane(ti, to, 0.0, 1.0))
+                })
+                .collect(),
+            Self::Spherical {
+                theta_i_deg,
+                phi_i_deg,
+                theta_o_deg,
+                phi_o_deg,
+            } => {
+                let mut out = Vec::with_capacity(self.len());
+                for &ti in theta_i_deg {
+                    for &pi in phi_i_deg {
+                        for &to in theta_o_deg {
+                            for &po in phi_o_deg {
+                                out.push(Measurement::spherical((ti, pi), (to, po), 0.0, 1.0));
+                            }
+                        }
+                    }
+                }
+                out
+            }
+        }
+    }
 }
 
 /// What to synthesise: a model, an angle grid and the noise.
@@ -64,11 +200,8 @@ pub struct SynthSpec {
     /// The true model: NDF, scale, eta, masking and orders (for orders all, its walks and their
     /// seed).
     pub model: Model,
-    /// Incidence angles (degrees, [0, 90)); the outer loop of the rows.
-    pub theta_i_deg: Vec<f64>,
-    /// Transmitted directions (degrees, (90, 270)); the inner loop of the rows.
-    pub theta_o_deg: Vec<f64>,
-    /// Relative noise sigma: each value is `max(0, L (1 + sigma z))`, z standard normal.
+    pub grid: Grid,
+    /// Relative noise sigma: each value is `max(0, v (1 + sigma z))`, z standard normal.
     pub noise: f64,
     /// Seed of the noise (a PCG-64 stream); the same seed gives the same file.
     pub seed: u64,
@@ -83,22 +216,8 @@ impl SynthSpec {
         if !(self.noise.is_finite() && self.noise >= 0.0) {
             return Err(SynthError::Noise(self.noise));
         }
-        check_angles(
-            COL_THETA_I,
-            &self.theta_i_deg,
-            THETA_I_RANGE,
-            theta_i_in_range,
-        )?;
-        check_angles(
-            COL_THETA_O,
-            &self.theta_o_deg,
-            THETA_O_RANGE,
-            theta_o_in_range,
-        )?;
-        let n = self
-            .theta_i_deg
-            .len()
-            .saturating_mul(self.theta_o_deg.len());
+        self.grid.check()?;
+        let n = self.grid.len();
         if n > MAX_POINTS {
             return Err(SynthError::TooManyPoints(n));
         }
@@ -113,31 +232,19 @@ impl SynthSpec {
         Ok(())
     }
 
-    /// The synthetic sample: for each `theta_i` (outer) and `theta_o` (inner), the model value
-    /// ([`Model::predict`]) with multiplicative noise `max(0, L (1 + noise z))`, `z ~ N(0, 1)`
-    /// drawn in row order from PCG-64 seeded with `seed`.
+    /// The synthetic sample: at every grid point, in row order, the model value
+    /// ([`Model::predict_points`]: `L` for an in-plane grid, the BSDF for a general one) with
+    /// multiplicative noise `max(0, v (1 + noise z))`, `z ~ N(0, 1)` drawn in row order from
+    /// PCG-64 seeded with `seed`.
     pub fn sample(&self) -> Result<Sample, SynthError> {
         self.validate()?;
-        let angles: Vec<(f64, f64)> = self
-            .theta_i_deg
-            .iter()
-            .flat_map(|&ti| self.theta_o_deg.iter().map(move |&to| (ti, to)))
-            .collect();
-        let l = self.model.predict(&angles)?;
+        let mut points = self.grid.points();
+        let values = self.model.predict_points(&points)?;
         let mut rng = Pcg64::seed_from_u64(self.seed);
-        let points = angles
-            .iter()
-            .zip(l)
-            .map(|(&(theta_i_deg, theta_o_deg), l)| {
-                let z: f64 = StandardNormal.sample(&mut rng);
-                Measurement {
-                    theta_i_deg,
-                    theta_o_deg,
-                    l: (l * (1.0 + self.noise * z)).max(0.0),
-                    weight: 1.0,
-                }
-            })
-            .collect();
+        for (p, v) in points.iter_mut().zip(values) {
+            let z: f64 = StandardNormal.sample(&mut rng);
+            p.value = (v * (1.0 + self.noise * z)).max(0.0);
+        }
         Ok(Sample {
             name: self.name.clone(),
             points,
@@ -157,7 +264,7 @@ pub fn write_file(
     let display = path.display().to_string();
     let header = !append || !path.exists();
     if !header {
-        let expected = HEADER.join(",");
+        let expected = csv_header(samples)?.join(",");
         match read_header(path)? {
             Some((_, h)) if h.join(",") == expected => {}
             Some((line, h)) => {
@@ -184,7 +291,7 @@ pub fn write_file(
         }
     }
     let mut buf = Vec::new();
-    write_csv(&mut buf, samples, header, comment).expect("writing to memory");
+    write_csv(&mut buf, samples, header, comment)?;
     let io = |source| SynthError::Io {
         path: display.clone(),
         source,
@@ -220,37 +327,69 @@ fn check_angles(
     }
 }
 
-/// Writes samples as data rows `sample,theta_i_deg,theta_o_deg,L`, preceded by the header line
-/// when `header` is true and by `comment` (each of its lines prefixed with `# `) when given.
-/// Numbers are written in Rust's shortest form that reads back to the same `f64`.
+/// The header [`write_csv`] writes for `samples`: [`HEADER`] for in-plane samples,
+/// [`GENERAL_HEADER`] for general ones; samples of both forms cannot share a file.
+pub fn csv_header(samples: &[Sample]) -> Result<&'static [&'static str], SynthError> {
+    let in_plane = samples.iter().all(Sample::is_in_plane);
+    let general = samples
+        .iter()
+        .all(|s| s.points.iter().all(|p| p.in_plane_angles().is_none()));
+    match (in_plane, general) {
+        (true, _) => Ok(&HEADER),
+        (false, true) => Ok(&GENERAL_HEADER),
+        (false, false) => Err(SynthError::MixedForms),
+    }
+}
+
+/// Writes samples as data rows, preceded by the header line when `header` is true and by
+/// `comment` (each of its lines prefixed with `# `) when given: in-plane samples as
+/// `sample,theta_i_deg,theta_o_deg,L`, general ones as
+/// `sample,theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,bsdf`. Numbers are written in Rust's
+/// shortest form that reads back to the same `f64`.
 pub fn write_csv<W: Write>(
     mut out: W,
     samples: &[Sample],
     header: bool,
     comment: Option<&str>,
-) -> io::Result<()> {
+) -> Result<(), SynthError> {
+    let columns = csv_header(samples)?;
+    let io = |e: csv::Error| SynthError::Io {
+        path: "output".into(),
+        source: e.into(),
+    };
     if let Some(comment) = comment {
         for line in comment.lines() {
-            writeln!(out, "# {line}")?;
+            writeln!(out, "# {line}").map_err(|e| io(e.into()))?;
         }
     }
     let mut writer = csv::WriterBuilder::new()
         .has_headers(false)
         .from_writer(&mut out);
     if header {
-        writer.write_record(HEADER)?;
+        writer.write_record(columns).map_err(io)?;
     }
     for sample in samples {
         for p in &sample.points {
-            writer.write_record([
-                sample.name.as_str(),
-                &p.theta_i_deg.to_string(),
-                &p.theta_o_deg.to_string(),
-                &p.l.to_string(),
-            ])?;
+            let mut row = vec![sample.name.clone()];
+            match p.angles {
+                Angles::InPlane {
+                    theta_i_deg,
+                    theta_o_deg,
+                } => row.extend([theta_i_deg, theta_o_deg].map(|x| x.to_string())),
+                Angles::Spherical {
+                    theta_i_deg,
+                    phi_i_deg,
+                    theta_o_deg,
+                    phi_o_deg,
+                } => row.extend(
+                    [theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg].map(|x| x.to_string()),
+                ),
+            }
+            row.push(p.value.to_string());
+            writer.write_record(&row).map_err(io)?;
         }
     }
-    writer.flush()?;
+    writer.flush().map_err(|e| io(e.into()))?;
     Ok(())
 }
 
@@ -321,12 +460,21 @@ mod tests {
                 walks: None,
                 seed: None,
             },
-            theta_i_deg: vec![0.0, 30.0, 60.0, 80.0],
-            theta_o_deg: parse_angle_list("106:254:2").unwrap(),
+            grid: Grid::InPlane {
+                theta_i_deg: vec![0.0, 30.0, 60.0, 80.0],
+                theta_o_deg: parse_angle_list("106:254:2").unwrap(),
+            },
             noise: 0.0,
             seed: 7,
             name: "frosted".into(),
         }
+    }
+
+    fn set_in_plane(s: &mut SynthSpec, theta_i_deg: Vec<f64>, theta_o_deg: Vec<f64>) {
+        s.grid = Grid::InPlane {
+            theta_i_deg,
+            theta_o_deg,
+        };
     }
 
     #[test]
@@ -361,14 +509,9 @@ mod tests {
         .unwrap();
         let d = load_bytes(Path::new("synth.csv"), &buf).unwrap();
         assert_eq!(d.samples, vec![sample.clone()]);
-        let angles: Vec<_> = sample
-            .points
-            .iter()
-            .map(|p| (p.theta_i_deg, p.theta_o_deg))
-            .collect();
-        let l = s.model.predict(&angles).unwrap();
-        assert!(sample.points.iter().zip(&l).all(|(p, l)| p.l == *l));
-        assert!(sample.points.iter().any(|p| p.l > 0.1));
+        let l = s.model.predict_points(&sample.points).unwrap();
+        assert!(sample.points.iter().zip(&l).all(|(p, l)| p.value == *l));
+        assert!(sample.points.iter().any(|p| p.value > 0.1));
     }
 
     #[test]
@@ -385,8 +528,8 @@ mod tests {
             .points
             .iter()
             .zip(&clean.points)
-            .filter(|(_, c)| c.l > 0.0)
-            .map(|(n, c)| n.l / c.l - 1.0)
+            .filter(|(_, c)| c.value > 0.0)
+            .map(|(n, c)| n.value / c.value - 1.0)
             .collect();
         let n = rel.len() as f64;
         let mean = rel.iter().sum::<f64>() / n;
@@ -408,9 +551,20 @@ mod tests {
             (|s| s.model.eta = 1.0, "eta"),
             (|s| s.model.scale = -1.0, "scale"),
             (|s| s.noise = f64::NAN, "noise"),
-            (|s| s.theta_i_deg = vec![90.0], "theta_i_deg"),
-            (|s| s.theta_o_deg = vec![], "theta_o_deg"),
-            (|s| s.theta_o_deg = vec![270.0], "theta_o_deg"),
+            (|s| set_in_plane(s, vec![90.0], vec![180.0]), "theta_i_deg"),
+            (|s| set_in_plane(s, vec![0.0], vec![]), "theta_o_deg"),
+            (|s| set_in_plane(s, vec![0.0], vec![270.0]), "theta_o_deg"),
+            (
+                |s| {
+                    s.grid = Grid::Spherical {
+                        theta_i_deg: vec![90.0],
+                        phi_i_deg: vec![0.0],
+                        theta_o_deg: vec![10.0],
+                        phi_o_deg: vec![0.0],
+                    }
+                },
+                "theta_i_deg",
+            ),
             (|s| s.name = "#x".into(), "sample name"),
             (|s| s.name = String::new(), "sample name"),
             (
@@ -452,7 +606,11 @@ mod tests {
     fn multiple_scattering_sample_adds_to_single_scattering() {
         let mut s = spec();
         s.model.alpha = 0.6;
-        s.theta_o_deg = parse_angle_list("110:250:10").unwrap();
+        set_in_plane(
+            &mut s,
+            vec![0.0, 30.0, 60.0, 80.0],
+            parse_angle_list("110:250:10").unwrap(),
+        );
         s.model.masking = Masking::Correlated;
         let single = s.sample().unwrap();
         s.model.orders = ScatteringOrders::All;
@@ -464,14 +622,14 @@ mod tests {
             .points
             .iter()
             .zip(&multi.points)
-            .map(|(a, b)| (a.l, b.l))
+            .map(|(a, b)| (a.value, b.value))
             .fold((0.0, 0.0), |(x, y), (a, b)| (x + a, y + b));
         assert!(
             single
                 .points
                 .iter()
                 .zip(&multi.points)
-                .all(|(a, b)| b.l >= a.l),
+                .all(|(a, b)| b.value >= a.value),
             "orders >= 2 only add light"
         );
         // At alpha 0.6 multiple scattering is a few percent of the transmitted light.

@@ -16,12 +16,7 @@ fn sample(points: Vec<Measurement>) -> Sample {
 }
 
 fn point(theta_i_deg: f64, theta_o_deg: f64, l: f64) -> Measurement {
-    Measurement {
-        theta_i_deg,
-        theta_o_deg,
-        l,
-        weight: 1.0,
-    }
+    Measurement::in_plane(theta_i_deg, theta_o_deg, l, 1.0)
 }
 
 fn spec(kind: ModelKind, gamma_fixed: Option<f64>) -> ModelSpec {
@@ -63,7 +58,7 @@ fn empty_sample_is_too_few_points() {
 #[test]
 fn all_zero_data_is_rejected() {
     let mut s = good();
-    s.points.iter_mut().for_each(|p| p.l = 0.0);
+    s.points.iter_mut().for_each(|p| p.value = 0.0);
     for kind in [ModelKind::Beckmann, ModelKind::Ggx, ModelKind::StudentT] {
         let e = fit_sample(&s, spec(kind, None), &FitOptions::default()).unwrap_err();
         assert!(matches!(e, FitError::AllZero { .. }), "{e}");
@@ -111,7 +106,10 @@ fn invalid_points_and_options_are_rejected() {
         );
     }
     for eta in [1.0, 0.0, -1.5, f64::NAN] {
-        let o = FitOptions { eta, ..opts };
+        let o = FitOptions {
+            eta: stfit_fit::Parameter::Fixed(eta),
+            ..opts
+        };
         let e = fit_sample(&good(), ggx, &o).unwrap_err();
         assert!(matches!(e, FitError::InvalidParameter(_)), "eta {eta}: {e}");
     }

@@ -15,11 +15,20 @@ fn walter_measurements_load_with_three_samples_of_300_points() {
     assert_eq!(names, ["frosted", "etched", "ground"]);
     for sample in &data.samples {
         assert_eq!(sample.points.len(), 300, "{}", sample.name);
-        let mut incidences: Vec<f64> = sample.points.iter().map(|p| p.theta_i_deg).collect();
+        let mut incidences: Vec<f64> = sample
+            .points
+            .iter()
+            .map(|p| p.in_plane_angles().unwrap().0)
+            .collect();
         incidences.sort_by(f64::total_cmp);
         incidences.dedup();
         assert_eq!(incidences, [0.0, 30.0, 60.0, 80.0], "{}", sample.name);
-        assert!(sample.points.iter().all(|p| p.weight == 1.0 && p.l >= 0.0));
+        assert!(
+            sample
+                .points
+                .iter()
+                .all(|p| p.weight == 1.0 && p.value >= 0.0)
+        );
     }
     // The file gives sqrt(L): the loader squares the value of the first data row, read here
     // independently of the loader (the data are never copied into the project).
@@ -27,6 +36,6 @@ fn walter_measurements_load_with_three_samples_of_300_points() {
     let row: Vec<&str> = text.lines().nth(1).unwrap().split(',').collect();
     let field = |i: usize| row[i].trim().parse::<f64>().unwrap();
     let first = data.samples[0].points[0];
-    assert_eq!((first.theta_i_deg, first.theta_o_deg), (field(1), field(2)));
-    assert!((first.l - field(3).powi(2)).abs() < 1e-15);
+    assert_eq!(first.in_plane_angles(), Some((field(1), field(2))));
+    assert!((first.value - field(3).powi(2)).abs() < 1e-15);
 }

@@ -33,12 +33,7 @@ fn multiple_scattering_sample(truth: &Model, walks: u64) -> Sample {
         points: angles
             .iter()
             .zip(l)
-            .map(|(&(ti, to), l)| Measurement {
-                theta_i_deg: ti,
-                theta_o_deg: to,
-                l,
-                weight: 1.0,
-            })
+            .map(|(&(ti, to), l)| Measurement::in_plane(ti, to, l, 1.0))
             .collect(),
     }
 }

@@ -11,21 +11,17 @@ fn rel(a: f64, b: f64) -> f64 {
 
 /// The minimised loss of a fit, recomputed from the fitted model (weights are 1).
 fn loss_of(r: &FitResult, sample: &stfit_fit::Sample, loss: Loss) -> f64 {
-    let angles: Vec<(f64, f64)> = sample
-        .points
-        .iter()
-        .map(|p| (p.theta_i_deg, p.theta_o_deg))
-        .collect();
-    let model = r.model.predict(&angles).unwrap();
+    let model = r.model.predict_points(&sample.points).unwrap();
     let t = |x: f64| match loss {
         Loss::Sqrt => x.sqrt(),
         Loss::Linear => x,
+        Loss::Log => unreachable!("not compared here"),
     };
     sample
         .points
         .iter()
         .zip(&model)
-        .map(|(p, &m)| (t(p.l) - t(m)).powi(2))
+        .map(|(p, &m)| (t(p.value) - t(m)).powi(2))
         .sum()
 }
 

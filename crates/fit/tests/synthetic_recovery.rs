@@ -152,12 +152,12 @@ fn calibration(truth: Model, noise: Noise, reps: usize, seed: u64) -> [f64; 3] {
             // Box-Muller normal deviate.
             let (u1, u2): (f64, f64) = (rng.random(), rng.random());
             let z = (-2.0 * (1.0 - u1).ln()).sqrt() * (std::f64::consts::TAU * u2).cos();
-            p.l = match noise {
+            p.value = match noise {
                 Noise::AdditiveSqrt(sd) => {
-                    let y = p.l.sqrt() + sd * z;
+                    let y = p.value.sqrt() + sd * z;
                     y * y.abs()
                 }
-                Noise::Multiplicative(sd) => p.l * (1.0 + sd * z),
+                Noise::Multiplicative(sd) => p.value * (1.0 + sd * z),
             };
         }
         let r = fit_sample(&sample, spec(truth.kind), &FitOptions::default()).unwrap();

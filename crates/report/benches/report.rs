@@ -19,11 +19,8 @@ fn sample(name: &str, truth: Model) -> Sample {
     let points = angles
         .iter()
         .zip(l)
-        .map(|(&(theta_i_deg, theta_o_deg), l)| Measurement {
-            theta_i_deg,
-            theta_o_deg,
-            l,
-            weight: 1.0,
+        .map(|(&(theta_i_deg, theta_o_deg), l)| {
+            Measurement::in_plane(theta_i_deg, theta_o_deg, l, 1.0)
         })
         .collect();
     Sample {
@@ -46,6 +43,11 @@ fn fit(sample: &Sample, kind: ModelKind, alpha: f64, gamma: Gamma) -> FitResult 
         iterations: 0,
         data: None,
         stfit_version: "bench".into(),
+        eta_fixed: true,
+        scale_fixed: false,
+        log_floor: None,
+        eta_stderr: None,
+        measured: sample.measured(),
     }
 }
 

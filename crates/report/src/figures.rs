@@ -13,6 +13,7 @@ use crate::style::{
     fmt_sig, text,
 };
 use crate::view::{ModelSlot, PanelView, SampleView, extent, ndf_at_deg};
+use stfit_core::ndf::AnyNdf;
 
 /// Sizes of one kind of panel.
 #[derive(Debug, Clone, Copy)]
@@ -76,17 +77,29 @@ fn residual_range((lo, hi): (f64, f64)) -> (f64, f64) {
 
 /// The parameter line of a panel title.
 fn params_line(p: &PanelView, with_scale: bool) -> String {
-    let fit = p.fit;
+    params_text(p.fit, with_scale)
+}
+
+/// A fit's parameters as a panel title states them: alpha, gamma, eta when fitted, scale and
+/// the rmse.
+pub(crate) fn params_text(fit: &stfit_fit::FitResult, with_scale: bool) -> String {
     let mut parts = vec![format!("α = {}", fmt_sig(fit.model.alpha, 4))];
     match fit.model.gamma {
         stfit_fit::Gamma::Fixed(g) => parts.push(format!("γ = {g} (fixed)")),
         stfit_fit::Gamma::Free(g) => parts.push(format!("γ = {}", fmt_sig(g, 4))),
         stfit_fit::Gamma::NotApplicable => {}
     }
+    if !fit.eta_fixed {
+        parts.push(format!("η = {}", fmt_sig(fit.model.eta, 4)));
+    }
     if with_scale {
         parts.push(format!("scale = {}", fmt_sig(fit.model.scale, 4)));
     }
-    parts.push(format!("rmse √L = {}", fmt_sig(fit.rmse_sqrt_l, 3)));
+    parts.push(format!(
+        "rmse {} = {}",
+        fit.measured.sqrt_symbol(),
+        fmt_sig(fit.rmse_sqrt_l, 3)
+    ));
     parts.join("    ")
 }
 
@@ -416,14 +429,15 @@ pub fn clip_below(points: &[(f64, f64)], floor: f64) -> Vec<Vec<(f64, f64)>> {
     pieces
 }
 
-/// The fitted NDFs `D(theta_m)` of every sample on a log scale.
+/// The fitted NDFs `D(theta_m)` of every sample on a log scale: per sample its title and the
+/// NDFs of its four panels.
 pub(crate) struct NdfFigure<'a> {
-    pub views: &'a [SampleView<'a>],
+    pub samples: &'a [(String, [Option<AnyNdf>; 4])],
 }
 
 impl NdfFigure<'_> {
     fn grid(&self) -> (usize, usize, u32) {
-        let n = self.views.len().max(1);
+        let n = self.samples.len().max(1);
         let cols = n.min(3);
         let width = match cols {
             1 => 1100,
@@ -452,8 +466,8 @@ impl Figure for NdfFigure<'_> {
             .collect();
         draw_header(&header, "Fitted NDFs D(θm)", &legend, HEADER_FONT)?;
         let (rows, cols, _) = self.grid();
-        for (area, view) in body.split_evenly((rows, cols)).iter().zip(self.views) {
-            draw_ndf_panel(&area.margin(0, 10, 10, 10), view)?;
+        for (area, (title, ndfs)) in body.split_evenly((rows, cols)).iter().zip(self.samples) {
+            draw_ndf_panel(&area.margin(0, 10, 10, 10), title, ndfs)?;
         }
         Ok(())
     }
@@ -461,17 +475,18 @@ impl Figure for NdfFigure<'_> {
 
 fn draw_ndf_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
-    view: &SampleView,
+    title: &str,
+    ndfs: &[Option<AnyNdf>; 4],
 ) -> Result<(), ReportError> {
     let look = LARGE;
     let curves: Vec<(ModelSlot, Vec<(f64, f64)>)> = ModelSlot::ALL
         .iter()
-        .filter_map(|&s| view.panels[s.index()].as_ref().map(|p| (s, p)))
-        .map(|(s, p)| {
+        .filter_map(|&s| ndfs[s.index()].as_ref().map(|ndf| (s, ndf)))
+        .map(|(s, ndf)| {
             let pts = (0..NDF_POINTS)
                 .map(|k| {
                     let t = NDF_MAX_DEG * k as f64 / (NDF_POINTS - 1) as f64;
-                    (t, ndf_at_deg(&p.ndf, t))
+                    (t, ndf_at_deg(ndf, t))
                 })
                 .collect();
             (s, pts)
@@ -485,7 +500,7 @@ fn draw_ndf_panel<DB: DrawingBackend>(
     let (title_area, plot_area) = area.split_vertically(look.title_height / 2 + 8);
     let (w, h) = title_area.dim_in_pixel();
     title_area.draw_text(
-        view.title(),
+        title,
         &bold(look.heading).pos(Pos::new(HPos::Center, VPos::Center)),
         (w as i32 / 2, h as i32 / 2),
     )?;

@@ -21,6 +21,7 @@
 
 mod error;
 mod figures;
+mod general;
 mod render;
 mod style;
 mod table;
@@ -38,6 +39,7 @@ pub use table::{fits_markdown, fits_table};
 pub use view::ModelSlot;
 
 use figures::{NdfFigure, OverviewFigure, SampleFigure};
+use general::{GeneralView, PlaneFigure, PolarFigure};
 use render::{Figure, render_png, render_svg};
 use style::AnglePalette;
 use view::SampleView;
@@ -99,18 +101,16 @@ impl Report {
     }
 }
 
-/// What a model computes besides its NDF, as tables and messages state it: for example
-/// `single scattering, separable masking, eta 1.51` or `all orders (20000 walks, seed 1), eta
-/// 1.45`.
+/// The scattering orders and masking of a model, as tables and messages state them: for
+/// example `single scattering, separable masking` or `all orders (20000 walks, seed 1)`.
 pub fn model_description(m: &stfit_fit::Model) -> String {
-    let orders = match (m.orders, m.walks, m.seed) {
+    match (m.orders, m.walks, m.seed) {
         (stfit_fit::ScatteringOrders::Single, _, _) => {
             format!("single scattering, {} masking", m.masking.name())
         }
         (_, Some(w), Some(s)) => format!("all orders ({w} walks, seed {s})"),
         _ => "all orders".to_string(),
-    };
-    format!("{orders}, eta {}", m.eta)
+    }
 }
 
 /// A file-name stem for a sample: ASCII letters, digits, `-`, `_` and `.` kept, anything else
@@ -221,76 +221,142 @@ pub fn render_report(
         }
     }
 
-    let views = data
-        .samples
-        .iter()
-        .zip(slots)
-        .map(|(s, f)| SampleView::new(s, f, opts))
-        .collect::<Result<Vec<_>, _>>()?;
+    // In-plane samples get the Walter-form figures, general samples theirs.
+    let mut in_plane = Vec::new();
+    let mut general = Vec::new();
+    for (sample, fits) in data.samples.iter().zip(slots) {
+        if sample.is_in_plane() {
+            in_plane.push(SampleView::new(sample, fits, opts)?);
+        } else {
+            general.push(GeneralView::new(sample, fits, opts.y_scale)?);
+        }
+    }
     let palette = AnglePalette::new(
         data.samples
             .iter()
-            .flat_map(|s| s.points.iter().map(|m| m.theta_i_deg)),
+            .flat_map(|s| s.points.iter().map(|m| m.theta_i_deg())),
     );
-
+    // (sample title, [(fit, recomputed rmse)]) of every sample, in data order.
+    let mut rmse_checks: Vec<(&str, Vec<(&FitResult, f64)>)> = Vec::new();
+    for v in &in_plane {
+        rmse_checks.push((
+            v.title(),
+            v.panels
+                .iter()
+                .flatten()
+                .map(|p| (p.fit, p.rmse_sqrt_l))
+                .collect(),
+        ));
+    }
+    for v in &general {
+        rmse_checks.push((
+            v.title(),
+            v.panels
+                .iter()
+                .flatten()
+                .map(|p| (p.fit, p.rmse_sqrt))
+                .collect(),
+        ));
+    }
     let mut warnings = Vec::new();
-    for view in &views {
-        for p in view.panels.iter().flatten() {
-            let stored = p.fit.rmse_sqrt_l;
-            if (p.rmse_sqrt_l - stored).abs() > RMSE_TOLERANCE * stored.abs().max(1e-3) {
+    for (title, checks) in &rmse_checks {
+        for &(fit, recomputed) in checks {
+            let stored = fit.rmse_sqrt_l;
+            if (recomputed - stored).abs() > RMSE_TOLERANCE * stored.abs().max(1e-3) {
                 warnings.push(format!(
-                    "sample `{}`, {}: the stored rmse of sqrt(L) is {} but the data and the \
-                     fitted model ({}) give {}; the fit may come from other data",
-                    view.title(),
-                    ModelSlot::of(p.fit).title(),
+                    "sample `{title}`, {}: the stored rmse of the square root of the data is {} \
+                     but the data and the fitted model ({}, eta {}) give {}; the fit may come \
+                     from other data",
+                    ModelSlot::of(fit).title(),
                     fmt_sig(stored, 6),
-                    model_description(&p.fit.model),
-                    fmt_sig(p.rmse_sqrt_l, 6),
+                    model_description(&fit.model),
+                    fit.model.eta,
+                    fmt_sig(recomputed, 6),
                 ));
             }
         }
     }
 
     let mut files = Vec::new();
-    let mut figure_names = Vec::new();
-    for view in &views {
-        let stem = file_stem(view.name);
-        push_figure(
-            &mut files,
-            &format!("{stem}-fits"),
-            &SampleFigure::fits(view, &palette, opts.y_scale),
-        )?;
-        push_figure(
-            &mut files,
-            &format!("{stem}-residuals"),
-            &SampleFigure::residuals(view, &palette, opts.y_scale),
-        )?;
-        figure_names.push((
-            view.title().to_string(),
-            format!("{stem}-fits.png"),
-            format!("{stem}-residuals.png"),
-        ));
+    let mut figure_names: Vec<(String, Vec<(&'static str, String)>)> = Vec::new();
+    let mut ndfs: Vec<(String, [Option<stfit_core::ndf::AnyNdf>; 4])> = Vec::new();
+    for sample in &data.samples {
+        let stem = file_stem(&sample.name);
+        if let Some(view) = in_plane.iter().find(|v| v.name == sample.name) {
+            push_figure(
+                &mut files,
+                &format!("{stem}-fits"),
+                &SampleFigure::fits(view, &palette, opts.y_scale),
+            )?;
+            push_figure(
+                &mut files,
+                &format!("{stem}-residuals"),
+                &SampleFigure::residuals(view, &palette, opts.y_scale),
+            )?;
+            figure_names.push((
+                view.title().to_string(),
+                vec![
+                    ("fits", format!("{stem}-fits.png")),
+                    ("residuals", format!("{stem}-residuals.png")),
+                ],
+            ));
+            ndfs.push((
+                view.title().to_string(),
+                view.panels.clone().map(|p| p.map(|p| p.ndf)),
+            ));
+        } else if let Some(view) = general.iter().find(|v| v.name == sample.name) {
+            push_figure(
+                &mut files,
+                &format!("{stem}-plane"),
+                &PlaneFigure {
+                    view,
+                    palette: &palette,
+                    y_scale: opts.y_scale,
+                },
+            )?;
+            push_figure(
+                &mut files,
+                &format!("{stem}-polar"),
+                &PolarFigure {
+                    view,
+                    y_scale: opts.y_scale,
+                },
+            )?;
+            figure_names.push((
+                view.title().to_string(),
+                vec![
+                    ("plane of incidence", format!("{stem}-plane.png")),
+                    ("residual maps", format!("{stem}-polar.png")),
+                ],
+            ));
+            ndfs.push((
+                view.title().to_string(),
+                view.panels.clone().map(|p| p.map(|p| p.ndf)),
+            ));
+        }
     }
-    let overview = OverviewFigure {
-        views: &views,
-        palette: &palette,
-        y_scale: opts.y_scale,
-    };
-    push_figure(&mut files, "overview", &overview)?;
-    push_figure(&mut files, "ndf", &NdfFigure { views: &views })?;
+    if !in_plane.is_empty() {
+        let overview = OverviewFigure {
+            views: &in_plane,
+            palette: &palette,
+            y_scale: opts.y_scale,
+        };
+        push_figure(&mut files, "overview", &overview)?;
+    }
+    push_figure(&mut files, "ndf", &NdfFigure { samples: &ndfs })?;
 
-    let by_sample: Vec<(&str, Vec<&FitResult>)> = views
+    let by_sample: Vec<(&str, Vec<&FitResult>)> = rmse_checks
         .iter()
-        .map(|v| {
-            (
-                v.title(),
-                v.panels.iter().flatten().map(|p| p.fit).collect(),
-            )
-        })
+        .map(|(title, checks)| (*title, checks.iter().map(|c| c.0).collect()))
+        .collect();
+    // The fits table in data order.
+    let by_sample: Vec<(&str, Vec<&FitResult>)> = figure_names
+        .iter()
+        .filter_map(|(title, _)| by_sample.iter().find(|(t, _)| t == title).cloned())
         .collect();
     files.push(ReportFile {
         name: "fits.md".to_string(),
-        contents: fits_markdown(&by_sample, &figure_names, opts).into_bytes(),
+        contents: fits_markdown(&by_sample, &figure_names, !in_plane.is_empty(), opts).into_bytes(),
     });
     Ok(Report { files, warnings })
 }

@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use stfit_fit::{FitResult, Gamma};
+use stfit_fit::{FitResult, Gamma, Measured};
 
 use crate::style::fmt_sig;
 use crate::view::ModelSlot;
@@ -27,6 +27,38 @@ fn gamma_cell(fit: &FitResult, digits: usize) -> String {
     }
 }
 
+/// The eta of a fit: `1.51 (fixed)` when held, else with its error.
+fn eta_cell(fit: &FitResult, digits: usize) -> String {
+    if fit.eta_fixed {
+        format!("{} (fixed)", fmt_sig(fit.model.eta, digits))
+    } else {
+        with_error(fit.model.eta, fit.eta_stderr, digits)
+    }
+}
+
+/// The scale of a fit: `1 (fixed)` when held, else with its error.
+fn scale_cell(fit: &FitResult, digits: usize) -> String {
+    if fit.scale_fixed {
+        format!("{} (fixed)", fmt_sig(fit.model.scale, digits))
+    } else {
+        with_error(fit.model.scale, fit.scale_stderr, digits)
+    }
+}
+
+/// What the fits' points measure together, for a column header: `sqrt(L)` when every fit's
+/// points give `L`, and so on.
+fn rmse_header<'a>(fits: impl IntoIterator<Item = &'a FitResult>) -> String {
+    let mut measured: Option<Measured> = None;
+    for f in fits {
+        measured = Some(match measured {
+            None => f.measured,
+            Some(m) if m == f.measured => m,
+            Some(_) => Measured::Both,
+        });
+    }
+    format!("rmse {}", measured.unwrap_or_default().sqrt_label())
+}
+
 /// A sample name for a table cell: `-` when empty, control characters escaped, so that a row
 /// stays on one line whatever the name holds.
 fn sample_cell(name: &str) -> String {
@@ -45,34 +77,40 @@ fn sample_cell(name: &str) -> String {
 }
 
 /// The readable text table of fits, one row per sample and model, columns aligned: sample,
-/// model, alpha, gamma, scale (each with its standard error), rmse of `sqrt(L)` and the number
-/// of points.
+/// model, alpha, gamma, eta (when any fit fitted it), scale (each with its standard error, or
+/// marked fixed), the rmse of the square root of what was measured (`sqrt(L)` or
+/// `sqrt(BSDF)`) and the number of points.
 pub fn fits_table(fits: &[FitResult]) -> String {
-    let header = [
-        "sample",
-        "model",
-        "alpha",
-        "gamma",
-        "scale",
-        "rmse sqrt(L)",
-        "n",
-    ]
-    .map(String::from);
-    let rows: Vec<[String; 7]> = fits
+    // An eta column when any fit fitted it.
+    let eta = fits.iter().any(|f| !f.eta_fixed);
+    let mut header: Vec<String> = ["sample", "model", "alpha", "gamma"]
+        .map(String::from)
+        .to_vec();
+    if eta {
+        header.push("eta".into());
+    }
+    header.extend(["scale".to_string(), rmse_header(fits), "n".to_string()]);
+    let rows: Vec<Vec<String>> = fits
         .iter()
         .map(|f| {
-            [
+            let mut row = vec![
                 sample_cell(&f.sample),
                 f.model.kind.name().into(),
                 with_error(f.model.alpha, f.alpha_stderr, 5),
                 gamma_cell(f, 5),
-                with_error(f.model.scale, f.scale_stderr, 5),
+            ];
+            if eta {
+                row.push(eta_cell(f, 5));
+            }
+            row.extend([
+                scale_cell(f, 5),
                 fmt_sig(f.rmse_sqrt_l, 4),
                 f.n_points.to_string(),
-            ]
+            ]);
+            row
         })
         .collect();
-    let mut widths = header.clone().map(|h| h.chars().count());
+    let mut widths: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
     for row in &rows {
         for (w, cell) in widths.iter_mut().zip(row) {
             *w = (*w).max(cell.chars().count());
@@ -100,31 +138,53 @@ pub fn fits_table(fits: &[FitResult]) -> String {
 
 /// The markdown of `fits.md`: one table row per fit, grouped by sample in data order and by
 /// model in panel order, each naming the model actually fitted (orders, masking, eta); the
-/// lowest rmse of each sample in bold. `figures` lists, per sample,
-/// `(sample name, fit figure file, residual figure file)`.
+/// lowest rmse of each sample in bold. `figures` lists, per sample, its name and its figures
+/// as `(what, file)`; `overview` says whether the report has an overview figure.
 pub fn fits_markdown(
     samples: &[(&str, Vec<&FitResult>)],
-    figures: &[(String, String, String)],
+    figures: &[(String, Vec<(&str, String)>)],
+    overview: bool,
     opts: &ReportOptions,
 ) -> String {
     let mut md = String::new();
     md.push_str("# Fits\n\n");
+    let all = || samples.iter().flat_map(|(_, fits)| fits.iter().copied());
+    let measured = all().fold(None, |acc: Option<Measured>, f| match acc {
+        None => Some(f.measured),
+        Some(m) if m == f.measured => Some(m),
+        Some(_) => Some(Measured::Both),
+    });
+    let model = match measured.unwrap_or_default() {
+        Measured::L => {
+            "Rough-dielectric BTDF (Walter et al. 2007): `L = scale * f_t * cos(theta_i) / eta^2`"
+        }
+        Measured::Bsdf => {
+            "Rough-dielectric BSDF (Walter et al. 2007, reflection and transmission): \
+             `bsdf = scale * f`"
+        }
+        Measured::Both => {
+            "Rough-dielectric BSDF (Walter et al. 2007): `L = scale * f_t * cos(theta_i) / \
+             eta^2` for in-plane points, `bsdf = scale * f` for general ones"
+        }
+    };
+    let rmse_header = rmse_header(all());
     let _ = writeln!(
         md,
-        "Rough-dielectric BTDF (Walter et al. 2007): `L = scale * f_t * cos(theta_i) / eta^2`, \
-         each fit with the model it was fitted with. rmse is of sqrt(L) over the points of \
+        "{model}, each fit with the model it was fitted with. {} is over the points of \
          weight > 0 (the fitted points); ± gives standard errors; the lowest rmse of each sample \
-         is in bold. Figures plot {}.\n",
+         is in bold. Figures of in-plane data plot {}.\n",
+        rmse_header,
         match opts.y_scale {
             YScale::Sqrt => "sqrt(L)",
             YScale::Linear => "L",
         }
     );
-    md.push_str(
-        "| sample | model | fitted with | alpha | gamma | scale | rmse sqrt(L) | points | \
-         iterations |\n",
+    let _ = writeln!(
+        md,
+        "| sample | model | fitted with | alpha | gamma | eta | scale | {rmse_header} | points | \
+         iterations |"
     );
-    md.push_str("|---|---|---|---:|---:|---:|---:|---:|---:|\n");
+    md.push_str("|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
     for (name, fits) in samples {
         let best = fits
             .iter()
@@ -140,13 +200,14 @@ pub fn fits_markdown(
             };
             let _ = writeln!(
                 md,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 sample_cell(name).replace('|', "\\|"),
                 ModelSlot::of(fit).title(),
                 model_description(&fit.model),
                 with_error(fit.model.alpha, fit.alpha_stderr, 4),
                 gamma_cell(fit, 4),
-                with_error(fit.model.scale, fit.scale_stderr, 4),
+                eta_cell(fit, 4),
+                scale_cell(fit, 4),
                 rmse,
                 fit.n_points,
                 fit.iterations
@@ -154,12 +215,16 @@ pub fn fits_markdown(
         }
     }
     md.push_str("\n## Figures\n\n");
-    md.push_str("- [All samples and models](overview.png)\n- [Fitted NDFs](ndf.png)\n");
-    for (name, fit_png, residual_png) in figures {
-        let _ = writeln!(
-            md,
-            "- {name}: [fits]({fit_png}), [residuals]({residual_png})"
-        );
+    if overview {
+        md.push_str("- [All samples and models](overview.png)\n");
+    }
+    md.push_str("- [Fitted NDFs](ndf.png)\n");
+    for (name, files) in figures {
+        let links: Vec<String> = files
+            .iter()
+            .map(|(what, file)| format!("[{what}]({file})"))
+            .collect();
+        let _ = writeln!(md, "- {name}: {}", links.join(", "));
     }
     md
 }
@@ -183,6 +248,11 @@ mod tests {
             iterations: 42,
             data: None,
             stfit_version: "0".into(),
+            eta_fixed: true,
+            scale_fixed: false,
+            log_floor: None,
+            eta_stderr: None,
+            measured: Measured::L,
         }
     }
 

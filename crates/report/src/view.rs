@@ -117,25 +117,25 @@ impl YScale {
 
 /// Groups a sample's points by incidence angle (ascending) and sorts each group by `theta_o`.
 fn angle_groups(sample: &Sample, y: YScale) -> Vec<AngleGroup> {
-    let mut points: Vec<_> = sample.points.iter().collect();
-    points.sort_by(|a, b| {
-        a.theta_i_deg
-            .total_cmp(&b.theta_i_deg)
-            .then(a.theta_o_deg.total_cmp(&b.theta_o_deg))
-    });
+    let mut points: Vec<_> = sample
+        .points
+        .iter()
+        .filter_map(|m| m.in_plane_angles().map(|(ti, to)| (ti, to, m)))
+        .collect();
+    points.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
     let mut groups: Vec<AngleGroup> = Vec::new();
-    for m in points {
-        if groups.last().is_none_or(|g| g.theta_i_deg != m.theta_i_deg) {
+    for (theta_i_deg, theta_o_deg, m) in points {
+        if groups.last().is_none_or(|g| g.theta_i_deg != theta_i_deg) {
             groups.push(AngleGroup {
-                theta_i_deg: m.theta_i_deg,
+                theta_i_deg,
                 points: Vec::new(),
                 l: Vec::new(),
                 fitted: Vec::new(),
             });
         }
         let g = groups.last_mut().expect("a group was just pushed");
-        g.points.push((m.theta_o_deg, y.apply(m.l)));
-        g.l.push(m.l);
+        g.points.push((theta_o_deg, y.apply(m.value)));
+        g.l.push(m.value);
         g.fitted.push(m.weight > 0.0);
     }
     groups
@@ -197,14 +197,15 @@ fn panel_view<'a>(
     })
 }
 
+/// A sample's name for titles: `(unnamed)` for a file without a `sample` column.
+pub(crate) fn sample_title(name: &str) -> &str {
+    if name.is_empty() { "(unnamed)" } else { name }
+}
+
 impl<'a> SampleView<'a> {
     /// The sample's name for titles; `(unnamed)` for a file without a `sample` column.
     pub(crate) fn title(&self) -> &str {
-        if self.name.is_empty() {
-            "(unnamed)"
-        } else {
-            self.name
-        }
+        sample_title(self.name)
     }
 
     /// Prepares a sample and its fits (already checked to belong to it, at most one per slot).
@@ -217,11 +218,11 @@ impl<'a> SampleView<'a> {
             return Err(ReportError::EmptySample(sample.name.clone()));
         }
         let groups = angle_groups(sample, opts.y_scale);
-        let (x0, x1) = sample
-            .points
+        let (x0, x1) = groups
             .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), m| {
-                (lo.min(m.theta_o_deg), hi.max(m.theta_o_deg))
+            .flat_map(|g| g.points.iter().map(|p| p.0))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(x), hi.max(x))
             });
         let mut panels: [Option<PanelView<'a>>; 4] = Default::default();
         for (panel, fit) in panels.iter_mut().zip(fits) {

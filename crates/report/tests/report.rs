@@ -31,12 +31,7 @@ fn synth_sample(name: &str, truth: Model, wobble: f64) -> Sample {
             let to = 105.82 + (253.89 - 105.82) * k as f64 / 74.0;
             let l = truth.predict(&[(ti, to)]).unwrap()[0];
             let noise = 1.0 + wobble * ((k * 7 + a * 3) as f64).sin();
-            points.push(Measurement {
-                theta_i_deg: ti,
-                theta_o_deg: to,
-                l: l * noise,
-                weight: 1.0,
-            });
+            points.push(Measurement::in_plane(ti, to, l * noise, 1.0));
         }
     }
     Sample {
@@ -69,8 +64,8 @@ fn rmse(sample: &Sample, p: &Model) -> f64 {
         .points
         .iter()
         .map(|m| {
-            let l = p.predict(&[(m.theta_i_deg, m.theta_o_deg)]).unwrap()[0];
-            (m.l.sqrt() - l.sqrt()).powi(2)
+            let l = p.predict_points(std::slice::from_ref(m)).unwrap()[0];
+            (m.value.sqrt() - l.sqrt()).powi(2)
         })
         .sum();
     (ss / sample.points.len() as f64).sqrt()
@@ -93,6 +88,11 @@ fn fit(sample: &Sample, mut p: Model, gamma_fixed: bool) -> FitResult {
         iterations: 42,
         data: None,
         stfit_version: "test".into(),
+        eta_fixed: true,
+        scale_fixed: false,
+        log_floor: None,
+        eta_stderr: None,
+        measured: sample.measured(),
     }
 }
 
@@ -380,12 +380,13 @@ fn fits_markdown_lists_every_fit_and_marks_the_best() {
     let direct = fits_markdown(
         &[("x", all[..4].iter().collect())],
         &[],
+        true,
         &ReportOptions::default(),
     );
     assert!(
         direct.contains(
-            "| x | Student-T, γ fixed | single scattering, separable masking, eta 1.51 | \
-             0.2500 ± 0.0010 | 3.000 (fixed) |"
+            "| x | Student-T, γ fixed | single scattering, separable masking | \
+             0.2500 ± 0.0010 | 3.000 (fixed) | 1.510 (fixed) |"
         ),
         "{direct}"
     );
@@ -529,7 +530,7 @@ fn an_unnamed_sample_gets_a_file_name_and_a_title() {
     // The exact model has zero residual everywhere.
     assert!(
         svg(&report, "fits.md")
-            .contains("| (unnamed) | GGX | single scattering, separable masking, eta 1.51 | 0.3000 ± 0.0010 | - | 1.000 ± 0.0040 | **0** |")
+            .contains("| (unnamed) | GGX | single scattering, separable masking | 0.3000 ± 0.0010 | - | 1.510 (fixed) | 1.000 ± 0.0040 | **0** |")
     );
 }
 
@@ -539,7 +540,7 @@ fn points_of_weight_zero_are_drawn_hollow_and_left_out_of_the_rmse() {
     let mut sample = synth_sample("weighted", truth, 0.0);
     // Stray light on a few points, excluded from the fit by weight 0.
     for m in sample.points.iter_mut().step_by(10) {
-        m.l += 0.05;
+        m.value += 0.05;
         m.weight = 0.0;
     }
     let fitted = sample.points.iter().filter(|m| m.weight > 0.0).count();
@@ -605,4 +606,80 @@ fn fits_of_the_fitting_engine_are_reproduced_without_warnings() {
     assert!(report.warnings.is_empty(), "{:?}", report.warnings);
     let fig = svg(&report, "ground_glass-fits.svg");
     assert_eq!(fig.matches("not fitted").count(), 0);
+}
+
+/// A general sample (reflection and transmission, light from both sides, out of plane) gets
+/// its plane-of-incidence and polar-residual figures, SVG and PNG, no overview, and tables
+/// that name what was measured (the BSDF) and the fitted eta; the fitted models reproduce
+/// their stored rmse.
+#[test]
+fn general_samples_get_plane_and_polar_figures() {
+    let truth = Model {
+        eta: 1.45,
+        ..params(ModelKind::Ggx, 0.3, 0.0, 1.2)
+    };
+    let sample = stfit_fit::SynthSpec {
+        model: truth,
+        grid: stfit_fit::Grid::spherical_default(),
+        noise: 0.02,
+        seed: 3,
+        name: "general glass".into(),
+    }
+    .sample()
+    .unwrap();
+    let opts = stfit_fit::FitOptions {
+        eta: stfit_fit::Parameter::Free,
+        ..Default::default()
+    };
+    let fits = stfit_fit::fit_all(&sample, &opts).unwrap();
+    assert!(fits.iter().all(|f| f.measured == stfit_fit::Measured::Bsdf));
+    let data = Dataset {
+        source: PathBuf::from("general"),
+        samples: vec![sample],
+    };
+    let report = render_report(&data, &fits, &ReportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let mut names: Vec<&str> = report.files.iter().map(|f| f.name.as_str()).collect();
+    names.sort_unstable();
+    assert_eq!(
+        names,
+        [
+            "fits.md",
+            "general_glass-plane.png",
+            "general_glass-plane.svg",
+            "general_glass-polar.png",
+            "general_glass-polar.svg",
+            "ndf.png",
+            "ndf.svg",
+        ]
+    );
+    let plane = svg(&report, "general_glass-plane.svg");
+    for text in [
+        "GGX",
+        "Student-T, γ free",
+        "rmse √BSDF",
+        "η = 1.4",
+        "θi = 150°",
+    ] {
+        assert!(plane.contains(text), "plane figure lacks {text:?}");
+    }
+    let polar = svg(&report, "general_glass-polar.svg");
+    assert!(polar.contains("residuals"), "polar figure has no title");
+    for name in ["general_glass-plane.png", "general_glass-polar.png"] {
+        let (w, h, _) = png_size(&report.file(name).unwrap().contents);
+        assert!(w >= 800 && h >= 600, "{name}: {w} x {h}");
+    }
+    let md = String::from_utf8(report.file("fits.md").unwrap().contents.clone()).unwrap();
+    assert!(md.contains("| rmse sqrt(BSDF) |"), "{md}");
+    assert!(md.contains("`bsdf = scale * f`"), "{md}");
+    let ggx_row = md
+        .lines()
+        .find(|l| l.starts_with("| general glass | GGX |"))
+        .expect("a GGX row");
+    let eta_cell = ggx_row.split(" | ").nth(5).unwrap();
+    let eta: f64 = eta_cell.split(" ± ").next().unwrap().parse().unwrap();
+    assert!(
+        (eta - 1.45).abs() < 0.005 && eta_cell.contains(" ± "),
+        "{ggx_row}"
+    );
 }

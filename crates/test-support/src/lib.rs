@@ -172,3 +172,64 @@ impl Drop for CaseDir {
         let _ = std::fs::remove_dir_all(&self.dir);
     }
 }
+
+/// Radiance's binaries and library of the pyradiance package that `.ci/python-env` installs
+/// under the build folder (`target/python-env`, or `$CARGO_TARGET_DIR/python-env`).
+#[derive(Debug, Clone)]
+pub struct Radiance {
+    /// The folder of `pabopto2bsdf`, `bsdf2klems`, `checkBSDF`, ...
+    pub bin: PathBuf,
+    /// Radiance's library folder (for `RAYPATH`).
+    pub lib: PathBuf,
+}
+
+impl Radiance {
+    /// A command running the Radiance program `name`, with the package's folders on `PATH`
+    /// and `RAYPATH` (some programs call others and read templates from the library).
+    pub fn command(&self, name: &str) -> Command {
+        let mut cmd = Command::new(self.bin.join(name));
+        let path = std::env::var_os("PATH").unwrap_or_default();
+        let mut paths = vec![self.bin.clone()];
+        paths.extend(std::env::split_paths(&path));
+        cmd.env("PATH", std::env::join_paths(paths).expect("a valid PATH"));
+        cmd.env("RAYPATH", format!(".:{}", self.lib.display()));
+        cmd
+    }
+}
+
+/// Radiance from `.ci/python-env`'s environment, or `None` with one line saying `test` did
+/// not run for want of it; under `CI=true` its absence is a failure.
+pub fn radiance(test: &str) -> Option<Radiance> {
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| project_root().join("target"));
+    let env = target.join("python-env");
+    // A virtual environment (lib/pythonX.Y/site-packages) or, where venv is unavailable,
+    // `pip install --target site` (.ci/python-env).
+    let venv = std::fs::read_dir(env.join("lib"))
+        .into_iter()
+        .flatten()
+        .filter_map(Result::ok)
+        .map(|d| d.path().join("site-packages/pyradiance"));
+    let found = venv
+        .chain([env.join("site/pyradiance")])
+        .find(|p| p.join("bin/pabopto2bsdf").is_file() && p.join("bin/checkBSDF").is_file());
+    match found {
+        Some(p) => Some(Radiance {
+            bin: p.join("bin"),
+            lib: p.join("lib"),
+        }),
+        None => {
+            assert!(
+                !under_ci(),
+                "{test}: under CI=true Radiance (pyradiance) is required in {}; run .ci/python-env",
+                env.display()
+            );
+            eprintln!(
+                "{test}: did not run for want of Radiance in {} (run .ci/python-env)",
+                env.display()
+            );
+            None
+        }
+    }
+}

@@ -40,12 +40,7 @@ pub fn synthetic(model: &Model, noise: f64, seed: u64) -> Sample {
         .zip(l)
         .map(|(&(ti, to), l)| {
             let e = (2.0 * rng.random::<f64>() - 1.0) * 3f64.sqrt();
-            Measurement {
-                theta_i_deg: ti,
-                theta_o_deg: to,
-                l: l * (1.0 + noise * e),
-                weight: 1.0,
-            }
+            Measurement::in_plane(ti, to, l * (1.0 + noise * e), 1.0)
         })
         .collect();
     Sample {
