@@ -32,10 +32,10 @@ pub enum ParamError {
     },
 }
 
-/// Smallest supported roughness: below it a surface is a mirror for any measurement, and
-/// `D ~ 1/alpha^2` leaves the range where every BSDF value stays finite (the Beckmann sampler
+/// Smallest supported roughness (the bottom of Cycles' albedo tables): below it a surface is a
+/// mirror for any measurement, and `D ~ 1/alpha^2` heads for overflow (the Beckmann sampler
 /// failed below 1e-154, GGX overflowed above 1e155).
-pub const ALPHA_MIN: f64 = 1e-4;
+pub const ALPHA_MIN: f64 = 1e-8;
 /// Largest supported roughness: walks take about `0.4 alpha` bounces.
 pub const ALPHA_MAX: f64 = 100.0;
 /// Largest supported Student-T shape; Student-T is then Beckmann to within 1e-12.
@@ -44,12 +44,12 @@ pub const GAMMA_MAX: f64 = 1e15;
 /// 3/2)` bounces, which diverges at 3/2.
 pub const GAMMA_WALK_MIN: f64 = 1.501;
 /// Smallest supported relative index of refraction.
-pub const ETA_MIN: f64 = 0.25;
+pub const ETA_MIN: f64 = 0.01;
 /// Largest supported relative index of refraction.
-pub const ETA_MAX: f64 = 4.0;
+pub const ETA_MAX: f64 = 100.0;
 /// Closest a relative index may come to 1: at 1 there is no interface and the transmission
 /// half vector degenerates.
-pub const ETA_NEAR_ONE: f64 = 0.01;
+pub const ETA_NEAR_ONE: f64 = 0.005;
 /// Largest supported real or imaginary part of a conductor's index.
 pub const CONDUCTOR_MAX: f64 = 1e3;
 /// Smallest supported real part of a conductor's index.

@@ -477,10 +477,30 @@ impl Surface {
         if let Some(g) = self.student_t_gamma() {
             crate::error::check_walk_gamma(g).map_err(param("gamma"))?;
         }
+        if let Some(p) = self.porosity().filter(|&p| p > 0.99) {
+            return Err(SurfaceError::Param {
+                param: "porosity",
+                source: ParamError::OutOfRange {
+                    name: "porosity",
+                    value: p,
+                    expected: "random walks need porosity in [0, 0.99]: at 1 they never end",
+                },
+            });
+        }
         match self.facet {
             SurfaceFacet::Dielectric(f) => with_facet(self.ndf, f, self.walk, orders),
             SurfaceFacet::Conductor(f) => with_facet(self.ndf, f, self.walk, orders),
             SurfaceFacet::Lambertian(f) => with_facet(self.ndf, f, self.walk, orders),
+        }
+    }
+
+    /// The porosity of a porous NDF.
+    fn porosity(&self) -> Option<f64> {
+        match self.ndf {
+            SurfaceNdf::Porous(PorousNdf::Beckmann(p)) => Some(p.porosity()),
+            SurfaceNdf::Porous(PorousNdf::Ggx(p)) => Some(p.porosity()),
+            SurfaceNdf::Porous(PorousNdf::StudentT(p)) => Some(p.porosity()),
+            _ => None,
         }
     }
 
