@@ -61,7 +61,9 @@ impl Masking {
     /// `G` for reflection from `a_i = 1 + Lambda(wi')` and `a_o = 1 + Lambda(wo')`.
     #[inline]
     pub fn g_reflection(self, a_i: f64, a_o: f64) -> f64 {
-        self.g(true, self.term(a_i), self.term(a_o))
+        // The reflected G depends on `a` alone: no log-gamma to compute.
+        let term = |a| SmithTerm { a, ln_gamma: 0.0 };
+        self.g(true, term(a_i), term(a_o))
     }
 
     /// `G` for transmission from `a_i = 1 + Lambda(wi')` and `a_o = 1 + Lambda(wo')`.
