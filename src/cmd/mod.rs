@@ -16,6 +16,7 @@ pub mod fit;
 pub mod report;
 pub mod surface;
 pub mod synth;
+pub mod tables;
 
 /// Why a command failed. The binary prints `error: <message>` and exits with [`exit_code`].
 ///

@@ -67,8 +67,7 @@ impl<N: Ndf> RoughDielectric<N> {
         if d == 0.0 || sigma_i <= 0.0 || sigma_i.is_nan() {
             return 0.0;
         }
-        let f = fresnel_dielectric(hv.cos_ih, self.eta);
-        hv.cos_ih.abs() * d / sigma_i * hv.jacobian() * hv.lobe_weight(f)
+        hv.cos_ih.abs() * d / sigma_i * hv.dielectric_weight(self.eta, 1.0 / self.eta)
     }
 }
 
