@@ -29,14 +29,17 @@ from ._stfit import (
     Microsurface,
     RoughDielectric,
     StudentT,
+    Table,
     __version__,
     fit,
     fits_json,
     load,
     read_fits,
     report,
+    merge_table_shards,
     synth,
     table,
+    table_shard,
 )
 
 __all__ = [
@@ -51,12 +54,15 @@ __all__ = [
     "Microsurface",
     "RoughDielectric",
     "StudentT",
+    "Table",
     "__version__",
     "fit",
     "fits_json",
     "load",
     "read_fits",
     "report",
+    "merge_table_shards",
     "synth",
     "table",
+    "table_shard",
 ]

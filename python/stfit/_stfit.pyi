@@ -290,3 +290,24 @@ def report(
     """Writes the report of ``stfit report`` into ``out``: comparison figures (SVG, PNG) and
     fits.md. Without ``fits``, the four models are fitted first with the options given.
     Returns the paths written; non-fatal findings are issued as warnings."""
+
+def table_shard(spec: str, index: int = 1, count: int = 1) -> str:
+    """Computes shard ``index`` of ``count`` of a directional-albedo (energy) table, ``spec``
+    being the JSON text of a table specification (the ``spec`` of a shard file of
+    ``stfit tables --shard K/N``, tables-format.md); returns the shard file's JSON text. One
+    task of a cluster computes one shard."""
+
+class Table:
+    """A whole directional-albedo table, in the formats of ``stfit tables --format``."""
+
+    def spec(self) -> str:
+        """The specification as JSON text."""
+    def npy(self) -> bytes:
+        """The .npy bytes: a structured array of shape (sides, gamma, eta, mu, alpha)."""
+    def csv(self) -> str: ...
+    def c_header(self) -> str:
+        """The C header in Cycles' layout."""
+
+def merge_table_shards(shards: Sequence[str]) -> Table:
+    """Joins shard texts (every shard 1..N of one specification exactly once) into the table
+    one run computes (``stfit tables merge``)."""
