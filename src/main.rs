@@ -45,6 +45,9 @@ enum Command {
     /// Figure-1-style plots (SVG and PNG) of the four model fits of every sample, an overview,
     /// residuals, the fitted NDFs and a markdown table of the fits.
     Report(cmd::report::ReportArgs),
+    /// Write stored fits as renderer materials (Mitsuba 3, pbrt-v4, Cycles, appleseed,
+    /// OpenPBR, V-Ray) or as an LBNL WINDOW BSDF file for Radiance.
+    Export(cmd::export::Args),
 }
 
 /// The fit options of `stfit report` given on its command line (not defaulted), as flags.
@@ -84,6 +87,7 @@ fn main() -> ExitCode {
         Some(Command::Albedo(args)) => cmd::albedo::run(&args),
         Some(Command::Report(args)) => cmd::report::run(args, &given_fit_flags(&matches)),
         Some(Command::Tables(args)) => cmd::tables::run(*args),
+        Some(Command::Export(args)) => cmd::export::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -114,6 +114,19 @@ fn every_command_exits_0_on_success_2_on_bad_values_1_on_bad_data() {
         (tables(&["--alpha-grid", "0"]), "", 2),
         (tables(&["--orders", "all", "--walks", "0"]), "", 2),
         (vec!["tables", "merge", "--out", t, bf], "", 1),
+        (vec!["export", f, "--to", "pbrt-v4"], "", 0),
+        (vec!["export", f, "--to", "blender"], "", 2),
+        (
+            vec!["export", f, "--to", "radiance", "--absorption", "1"],
+            "",
+            2,
+        ),
+        (
+            vec!["export", f, "--to", "mitsuba3", "--layer", "interface"],
+            "",
+            2,
+        ),
+        (vec!["export", bf, "--to", "mitsuba3"], "", 1),
         (vec!["--no-such-flag"], "", 2),
     ];
     for (args, stdin, code) in cases {

@@ -12,6 +12,7 @@ use stfit_core::bsdf::Masking;
 
 pub mod albedo;
 pub mod eval;
+pub mod export;
 pub mod fit;
 pub mod report;
 pub mod surface;
