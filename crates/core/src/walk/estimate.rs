@@ -19,8 +19,15 @@ pub const CHUNK: u64 = 2048;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Estimate {
     pub mean: f64,
-    /// Standard error of `mean` (sample standard deviation over `sqrt(n)`).
+    /// Standard error of `mean` (sample standard deviation over `sqrt(n)`); undefined (0)
+    /// for fewer than 2 walks: report it through [`defined_stderr`].
     pub stderr: f64,
+}
+
+/// A standard error as it may be reported: `None` for fewer than 2 walks, where the sample
+/// variance (and so the error) is undefined, never a "± 0".
+pub fn defined_stderr(walks: u64, stderr: f64) -> Option<f64> {
+    (walks >= 2 && stderr.is_finite()).then_some(stderr)
 }
 
 /// Fractions of the incident flux leaving on the side of the light (reflectance) and on the

@@ -48,7 +48,9 @@ mod microsurface;
 mod null;
 
 pub use engine::{WalkEnd, WalkSample};
-pub use estimate::{AlbedoEstimate, CHUNK, Estimate, Estimator, direction_seed, eval_pairs};
+pub use estimate::{
+    AlbedoEstimate, CHUNK, Estimate, Estimator, defined_stderr, direction_seed, eval_pairs,
+};
 pub use facet::{
     BsdfFacet, ConductorFacet, DielectricFacet, Facet, FacetSample, HeightFieldHit,
     LambertianFacet, VisibleNormals,
