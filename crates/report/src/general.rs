@@ -14,7 +14,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use stfit_core::ndf::AnyNdf;
-use stfit_fit::{Angles, FitResult, Measurement, Sample};
+use stfit_fit::{FitResult, Measurement, Sample};
 
 use crate::figures::fmt_tick;
 use crate::render::{FONT, Figure};
@@ -116,12 +116,7 @@ impl<'a> GeneralView<'a> {
         // The measured points of each incidence, in the sample's own order.
         let mut members: Vec<Vec<&Measurement>> = Vec::new();
         for p in &sample.points {
-            let Angles::Spherical {
-                theta_i_deg,
-                phi_i_deg,
-                theta_o_deg,
-                phi_o_deg,
-            } = p.angles
+            let Some(((theta_i_deg, phi_i_deg), (theta_o_deg, phi_o_deg))) = p.spherical_angles()
             else {
                 continue;
             };
