@@ -37,11 +37,12 @@ fn parameter(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Parameter> {
         .map_err(|_| arg_error(name, "expected a number or 'free'"))
 }
 
-/// The fit options of the keyword arguments, checked together (`FitOptions::check`).
+/// The fit options of the keyword arguments, checked together (`FitOptions::check`): `eta`
+/// defaults to [`DEFAULT_ETA`] held, `scale` to free, as on the command line.
 #[allow(clippy::too_many_arguments)]
 fn fit_options(
-    eta: &Bound<'_, PyAny>,
-    scale: &Bound<'_, PyAny>,
+    eta: Option<&Bound<'_, PyAny>>,
+    scale: Option<&Bound<'_, PyAny>>,
     loss: &str,
     log_floor: f64,
     optimizer: &str,
@@ -55,8 +56,8 @@ fn fit_options(
         .masking(masking_name.map(masking).transpose()?)
         .map_err(|e| arg_error("masking", e))?;
     let opts = FitOptions {
-        eta: parameter("eta", eta)?,
-        scale: parameter("scale", scale)?,
+        eta: eta.map_or(Ok(Parameter::Fixed(DEFAULT_ETA)), |v| parameter("eta", v))?,
+        scale: scale.map_or(Ok(Parameter::Free), |v| parameter("scale", v))?,
         loss: match loss {
             "sqrt" => Loss::Sqrt,
             "linear" => Loss::Linear,
@@ -133,18 +134,8 @@ pub fn fit(
     seed: u64,
 ) -> PyResult<Vec<PyFitResult>> {
     let specs = specs(model, gamma)?;
-    let default_eta = DEFAULT_ETA.into_pyobject(py)?.into_any();
-    let free = PyString::new(py, "free").into_any();
     let opts = fit_options(
-        eta.unwrap_or(&default_eta),
-        scale.unwrap_or(&free),
-        loss,
-        log_floor,
-        optimizer,
-        masking,
-        orders,
-        walks,
-        seed,
+        eta, scale, loss, log_floor, optimizer, masking, orders, walks, seed,
     )?;
     let data = crate::data::load(data, sample)?.0;
     let fits = py
@@ -529,18 +520,8 @@ pub fn report(
     let fits = match fits {
         Some(f) => results(f)?,
         None => {
-            let default_eta = DEFAULT_ETA.into_pyobject(py)?.into_any();
-            let free = PyString::new(py, "free").into_any();
             let fit_opts = fit_options(
-                eta.unwrap_or(&default_eta),
-                scale.unwrap_or(&free),
-                loss,
-                log_floor,
-                optimizer,
-                masking,
-                orders,
-                walks,
-                seed,
+                eta, scale, loss, log_floor, optimizer, masking, orders, walks, seed,
             )?;
             py.detach(|| fit_dataset(&data, &all_models(), &fit_opts, &|_, _| {}))
                 .map_err(|e| fit_error(py, &e))?

@@ -255,6 +255,20 @@ impl Measurement {
             Angles::Spherical { .. } => None,
         }
     }
+
+    /// The spherical angles `((theta_i_deg, phi_i_deg), (theta_o_deg, phi_o_deg))`, if this is
+    /// a general point.
+    pub fn spherical_angles(&self) -> Option<((f64, f64), (f64, f64))> {
+        match self.angles {
+            Angles::Spherical {
+                theta_i_deg,
+                phi_i_deg,
+                theta_o_deg,
+                phi_o_deg,
+            } => Some(((theta_i_deg, phi_i_deg), (theta_o_deg, phi_o_deg))),
+            Angles::InPlane { .. } => None,
+        }
+    }
 }
 
 /// The measurements of one physical sample.
