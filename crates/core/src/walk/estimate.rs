@@ -203,6 +203,20 @@ pub fn eval_pairs(
     walks: u64,
     seed: u64,
 ) -> Vec<Estimate> {
+    eval_pairs_with_progress(estimator, pairs, walks, seed, &|_| {})
+}
+
+/// The distinct incident directions of `pairs` (bit for bit, `-0.0` as `0.0`), in order of
+/// first appearance: the walks [`eval_pairs`] runs are `walks` per direction.
+pub fn distinct_incidences(pairs: &[(Vec3, Vec3)]) -> Vec<Vec3> {
+    incidence_groups(pairs)
+        .into_iter()
+        .map(|(wi, _)| wi)
+        .collect()
+}
+
+/// The pairs grouped by incident direction, in order of first appearance, by hashing.
+fn incidence_groups(pairs: &[(Vec3, Vec3)]) -> Vec<(Vec3, Vec<usize>)> {
     let key = |w: &Vec3| [w.x + 0.0, w.y + 0.0, w.z + 0.0].map(f64::to_bits);
     let mut groups: Vec<(Vec3, Vec<usize>)> = Vec::new();
     let mut index: std::collections::HashMap<[u64; 3], usize> = std::collections::HashMap::new();
@@ -213,6 +227,18 @@ pub fn eval_pairs(
         });
         groups[g].1.push(k);
     }
+    groups
+}
+
+/// [`eval_pairs`], calling `progress(walks)` after the walks of each incident direction.
+pub fn eval_pairs_with_progress(
+    estimator: &dyn Estimator,
+    pairs: &[(Vec3, Vec3)],
+    walks: u64,
+    seed: u64,
+    progress: &dyn Fn(u64),
+) -> Vec<Estimate> {
+    let groups = incidence_groups(pairs);
     let mut out = vec![
         Estimate {
             mean: 0.0,
@@ -226,6 +252,7 @@ pub fn eval_pairs(
         for (&k, e) in members.iter().zip(est) {
             out[k] = e;
         }
+        progress(walks);
     }
     out
 }
