@@ -14,7 +14,7 @@ const BAR_SECONDS: f64 = 2.0;
 /// Measures the cost of `walks` walks from `wi` by a pilot run, announces the run on stderr if
 /// it will be long, and returns a progress bar counting walks when one is worth drawing.
 pub fn announce(estimator: &dyn Estimator, wi: Vec3, walks: u64, seed: u64) -> Option<ProgressBar> {
-    let cost = WalkCost::measure(estimator, wi, seed ^ 0x5eed_0f_9170);
+    let cost = WalkCost::measure(estimator, wi, seed ^ 0x005e_ed0f_9170);
     let seconds = cost.seconds(walks);
     if seconds > LONG_RUN_SECONDS {
         let mut note = format!(
