@@ -2,12 +2,10 @@
 //! by the height-field or the null-scattering random walk.
 
 use super::surface::{SurfaceArgs, flags};
-use super::{CmdResult, OrdersArg, Retired, print_stdout, usage};
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
+use super::{CmdResult, OrdersArg, Retired, long_run, print_stdout, usage};
 use stfit_core::Vec3;
 use stfit_core::math::radians;
-use stfit_core::walk::{AlbedoEstimate, DEFAULT_ALBEDO_WALKS, Estimator};
+use stfit_core::walk::{AlbedoEstimate, DEFAULT_ALBEDO_WALKS, Estimator, defined_stderr};
 
 /// Arguments of `stfit albedo`.
 #[derive(Debug, clap::Args)]
@@ -57,19 +55,10 @@ pub fn run(args: &Args) -> CmdResult {
     print_stdout(&format_result(args, &result))
 }
 
-/// Runs the walks, with a progress bar when both output streams are terminals.
+/// Runs the walks, announcing a long run and drawing a progress bar on a terminal
+/// ([`long_run::announce`]).
 fn estimate(walk: &dyn Estimator, wi: Vec3, args: &Args) -> AlbedoEstimate {
-    let show = !args.json
-        && std::io::stdout().is_terminal()
-        && std::io::stderr().is_terminal()
-        && args.walks >= 1_000_000;
-    let bar = show.then(|| {
-        let bar = ProgressBar::new(args.walks);
-        if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} walks, eta {eta}") {
-            bar.set_style(style);
-        }
-        bar
-    });
+    let bar = long_run::announce(walk, wi, args.walks, args.seed);
     let progress = |n| {
         if let Some(bar) = &bar {
             bar.inc(n);
@@ -88,8 +77,8 @@ fn format_result(args: &Args, a: &AlbedoEstimate) -> String {
         let v = serde_json::json!({
             "reflectance": a.reflectance,
             "transmittance": a.transmittance,
-            "reflectance_stderr": a.reflectance_stderr,
-            "transmittance_stderr": a.transmittance_stderr,
+            "reflectance_stderr": defined_stderr(a.walks, a.reflectance_stderr),
+            "transmittance_stderr": defined_stderr(a.walks, a.transmittance_stderr),
             "mean_bounces": a.mean_bounces,
             "truncated": a.truncated,
             "walks": a.walks,
@@ -97,12 +86,16 @@ fn format_result(args: &Args, a: &AlbedoEstimate) -> String {
         });
         return format!("{v}\n");
     }
+    let pm = |se: f64| match defined_stderr(a.walks, se) {
+        Some(se) => format!(" +- {se:.6}"),
+        None => String::new(),
+    };
     let mut text = format!(
-        "reflectance    {:.6} +- {:.6}\ntransmittance  {:.6} +- {:.6}\nmean bounces   {:.4}\nwalks          {}\n",
+        "reflectance    {:.6}{}\ntransmittance  {:.6}{}\nmean bounces   {:.4}\nwalks          {}\n",
         a.reflectance,
-        a.reflectance_stderr,
+        pm(a.reflectance_stderr),
         a.transmittance,
-        a.transmittance_stderr,
+        pm(a.transmittance_stderr),
         a.mean_bounces,
         a.walks
     );

@@ -14,11 +14,13 @@ use std::path::Path;
 
 use stfit_core::bsdf::AnalyticBsdf;
 use stfit_core::surface::Evaluation;
-use stfit_core::walk::{DEFAULT_EVAL_WALKS, eval_pairs};
+use stfit_core::walk::{
+    DEFAULT_EVAL_WALKS, defined_stderr, distinct_incidences, eval_pairs_with_progress,
+};
 use stfit_fit::pairs::read_pairs;
 
 use super::surface::{SurfaceArgs, flags};
-use super::{CmdResult, MaskingArg, OrdersArg, Retired, failed, usage};
+use super::{CmdResult, MaskingArg, OrdersArg, Retired, failed, long_run, usage};
 
 /// Arguments of `stfit eval`.
 #[derive(Debug, Clone, clap::Args)]
@@ -70,12 +72,46 @@ pub fn run(args: &Args) -> CmdResult {
                 .iter()
                 .map(|&(wi, wo)| bsdf.f_cos(wi, wo))
                 .collect();
+            if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+                return Err(failed(format!(
+                    "row {}: the BSDF value is not finite",
+                    k + 1
+                )));
+            }
             table.write_with(&mut out, &values, None)
         }
         Evaluation::Walk(walk) => {
-            let est = eval_pairs(walk.as_ref(), &table.pairs, args.walks, args.seed);
+            let incidences = distinct_incidences(&table.pairs);
+            let bar = incidences.first().and_then(|&wi| {
+                let walks = args.walks.saturating_mul(incidences.len() as u64);
+                long_run::announce(walk.as_ref(), wi, walks, args.seed)
+            });
+            let progress = |n| {
+                if let Some(bar) = &bar {
+                    bar.inc(n);
+                }
+            };
+            let est = eval_pairs_with_progress(
+                walk.as_ref(),
+                &table.pairs,
+                args.walks,
+                args.seed,
+                &progress,
+            );
+            if let Some(bar) = bar {
+                bar.finish_and_clear();
+            }
             let values: Vec<f64> = est.iter().map(|e| e.mean).collect();
-            let stderr: Vec<Option<f64>> = est.iter().map(|e| Some(e.stderr)).collect();
+            let stderr: Vec<Option<f64>> = est
+                .iter()
+                .map(|e| defined_stderr(args.walks, e.stderr))
+                .collect();
+            if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+                return Err(failed(format!(
+                    "row {}: the random-walk estimate is not finite",
+                    k + 1
+                )));
+            }
             table.write_with(&mut out, &values, Some(&stderr))
         }
     };

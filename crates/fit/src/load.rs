@@ -111,10 +111,10 @@ pub enum LoadErrorKind {
     #[error("empty value, expected a number")]
     EmptyValue,
     /// A numeric field does not parse as a number.
-    #[error("'{0}' is not a number")]
+    #[error("'{}' is not a number", crate::data::short(.0))]
     NotANumber(String),
     /// A numeric field is NaN or infinite.
-    #[error("'{0}' is not a finite number")]
+    #[error("'{}' is not a finite number", crate::data::short(.0))]
     NonFinite(String),
     /// A value, `sqrt(L)` or weight field is negative.
     #[error("{0} is negative; must be >= 0")]
@@ -132,13 +132,23 @@ pub enum LoadErrorKind {
     #[error("empty sample name")]
     EmptySampleName,
     /// Every weight of a sample is zero, so nothing constrains its fit.
-    #[error("every weight of sample '{0}' is 0; at least one must be positive")]
+    #[error(
+        "every weight of sample '{}' is 0; at least one must be positive",
+        crate::data::short(.0)
+    )]
     AllWeightsZero(String),
     /// A requested sample name is not in the file.
-    #[error("no sample named '{name}' (the file has: {available})")]
+    #[error(
+        "no sample named '{}' (the file has: {})",
+        crate::data::short(name),
+        crate::data::short(available)
+    )]
     UnknownSample { name: String, available: String },
     /// A sample was requested from a file without a `sample` column.
-    #[error("the file has no 'sample' column, so no sample named '{0}' can be selected")]
+    #[error(
+        "the file has no 'sample' column, so no sample named '{}' can be selected",
+        crate::data::short(.0)
+    )]
     NoSampleColumn(String),
     /// A pab-opto header line after the first data line.
     #[error("a header line after the data; every '#' line must come first")]

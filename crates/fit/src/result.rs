@@ -51,12 +51,58 @@ pub struct FitResult {
     #[serde(default)]
     pub eta_stderr: Option<f64>,
     pub scale_stderr: Option<f64>,
+    /// Why the fit cannot be trusted as it stands, if it cannot (absent in older files: none).
+    /// A fit with warnings has no standard errors.
+    #[serde(default)]
+    pub warnings: Vec<FitWarning>,
     /// Iterations of the local optimiser, summed over its starts.
     pub iterations: u64,
     /// The data file the sample was read from, as given (`None` for data not from a file).
     pub data: Option<String>,
     /// The version of stfit that made the fit.
     pub stfit_version: String,
+}
+
+/// Why a fit cannot be trusted as it stands. In JSON an object with a `kind` and its details,
+/// such as `{"kind": "at-bound", "parameter": "alpha", "bound": 20.0}` (`fits-format.md`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum FitWarning {
+    /// A parameter ended on a bound of the search: the data want a value outside the searched
+    /// range (or outside the model family).
+    AtBound { parameter: String, bound: f64 },
+    /// The curvature of the loss at the optimum is singular: some parameter, or combination of
+    /// them, is not determined by the data.
+    SingularCurvature,
+    /// Fewer informative points (positive weight, value not zero) than fitted parameters.
+    FewInformativePoints {
+        informative: usize,
+        parameters: usize,
+    },
+}
+
+impl std::fmt::Display for FitWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::AtBound { parameter, bound } => write!(
+                f,
+                "{parameter} ended on the search bound {bound}: the data want a value outside \
+                 the searched range"
+            ),
+            Self::SingularCurvature => f.write_str(
+                "the curvature at the optimum is singular: the data do not determine every \
+                 parameter",
+            ),
+            Self::FewInformativePoints {
+                informative,
+                parameters,
+            } => write!(
+                f,
+                "only {informative} informative points (weight > 0, value not 0) for \
+                 {parameters} fitted parameters"
+            ),
+        }
+    }
 }
 
 /// The value of `eta_fixed` in files written before eta could be fitted.
@@ -68,7 +114,16 @@ impl FitResult {
     /// The fit as named in messages: its sample and model, such as
     /// `sample 'frosted', student-t (gamma = 3)`.
     pub fn label(&self) -> String {
-        format!("sample '{}', {}", self.sample, self.model.label())
+        format!(
+            "sample '{}', {}",
+            crate::data::short(&self.sample),
+            self.model.label()
+        )
+    }
+
+    /// Whether the fit carries warnings (and so no standard errors).
+    pub fn flagged(&self) -> bool {
+        !self.warnings.is_empty()
     }
 }
 
@@ -132,6 +187,22 @@ impl FitsFile {
     /// Parses stored fits; `source` names them in errors. Refuses files without a version (made
     /// by stfit 0.1) or of another version, and fits whose model cannot be evaluated.
     pub fn from_json(source: &str, text: &str) -> Result<Self, FitsFileError> {
+        let file = Self::from_json_unchecked(source, text)?;
+        for (index, fit) in file.fits.iter().enumerate() {
+            fit.model.check().map_err(|e| FitsFileError::InvalidFit {
+                file: source.to_owned(),
+                index,
+                label: fit.label(),
+                reason: e.to_string(),
+            })?;
+        }
+        Ok(file)
+    }
+
+    /// [`FitsFile::from_json`] without checking that each model can be evaluated: for readers
+    /// that name such fits and go on with the others (`stfit report` warns and leaves their
+    /// curves out) rather than refuse the file.
+    pub fn from_json_unchecked(source: &str, text: &str) -> Result<Self, FitsFileError> {
         let json = |e: serde_json::Error| FitsFileError::Json(source.to_owned(), e.to_string());
         let value: serde_json::Value = serde_json::from_str(text).map_err(json)?;
         match value.get("version") {
@@ -150,26 +221,26 @@ impl FitsFile {
             _ => {}
         }
         // Parsed from the text itself, not the `Value`, so every number keeps its exact bits.
-        let file: FitsFile = serde_json::from_str(text).map_err(json)?;
-        for (index, fit) in file.fits.iter().enumerate() {
-            fit.model.check().map_err(|e| FitsFileError::InvalidFit {
-                file: source.to_owned(),
-                index,
-                label: fit.label(),
-                reason: e.to_string(),
-            })?;
-        }
-        Ok(file)
+        serde_json::from_str(text).map_err(json)
     }
 
     /// Reads stored fits from `path` ([`FitsFile::from_json`]).
     pub fn read(path: &Path) -> Result<Self, FitsFileError> {
-        let text = std::fs::read_to_string(path).map_err(|source| FitsFileError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
-        Self::from_json(&path.display().to_string(), &text)
+        Self::from_json(&path.display().to_string(), &read_text(path)?)
     }
+
+    /// Reads stored fits from `path` ([`FitsFile::from_json_unchecked`]).
+    pub fn read_unchecked(path: &Path) -> Result<Self, FitsFileError> {
+        Self::from_json_unchecked(&path.display().to_string(), &read_text(path)?)
+    }
+}
+
+/// The text of a fits file.
+fn read_text(path: &Path) -> Result<String, FitsFileError> {
+    std::fs::read_to_string(path).map_err(|source| FitsFileError::Io {
+        path: path.display().to_string(),
+        source,
+    })
 }
 
 #[cfg(test)]

@@ -19,8 +19,15 @@ pub const CHUNK: u64 = 2048;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Estimate {
     pub mean: f64,
-    /// Standard error of `mean` (sample standard deviation over `sqrt(n)`).
+    /// Standard error of `mean` (sample standard deviation over `sqrt(n)`); undefined (0)
+    /// for fewer than 2 walks: report it through [`defined_stderr`].
     pub stderr: f64,
+}
+
+/// A standard error as it may be reported: `None` for fewer than 2 walks, where the sample
+/// variance (and so the error) is undefined, never a "± 0".
+pub fn defined_stderr(walks: u64, stderr: f64) -> Option<f64> {
+    (walks >= 2 && stderr.is_finite()).then_some(stderr)
 }
 
 /// Fractions of the incident flux leaving on the side of the light (reflectance) and on the
@@ -196,6 +203,20 @@ pub fn eval_pairs(
     walks: u64,
     seed: u64,
 ) -> Vec<Estimate> {
+    eval_pairs_with_progress(estimator, pairs, walks, seed, &|_| {})
+}
+
+/// The distinct incident directions of `pairs` (bit for bit, `-0.0` as `0.0`), in order of
+/// first appearance: the walks [`eval_pairs`] runs are `walks` per direction.
+pub fn distinct_incidences(pairs: &[(Vec3, Vec3)]) -> Vec<Vec3> {
+    incidence_groups(pairs)
+        .into_iter()
+        .map(|(wi, _)| wi)
+        .collect()
+}
+
+/// The pairs grouped by incident direction, in order of first appearance, by hashing.
+fn incidence_groups(pairs: &[(Vec3, Vec3)]) -> Vec<(Vec3, Vec<usize>)> {
     let key = |w: &Vec3| [w.x + 0.0, w.y + 0.0, w.z + 0.0].map(f64::to_bits);
     let mut groups: Vec<(Vec3, Vec<usize>)> = Vec::new();
     let mut index: std::collections::HashMap<[u64; 3], usize> = std::collections::HashMap::new();
@@ -206,6 +227,18 @@ pub fn eval_pairs(
         });
         groups[g].1.push(k);
     }
+    groups
+}
+
+/// [`eval_pairs`], calling `progress(walks)` after the walks of each incident direction.
+pub fn eval_pairs_with_progress(
+    estimator: &dyn Estimator,
+    pairs: &[(Vec3, Vec3)],
+    walks: u64,
+    seed: u64,
+    progress: &dyn Fn(u64),
+) -> Vec<Estimate> {
+    let groups = incidence_groups(pairs);
     let mut out = vec![
         Estimate {
             mean: 0.0,
@@ -219,6 +252,7 @@ pub fn eval_pairs(
         for (&k, e) in members.iter().zip(est) {
             out[k] = e;
         }
+        progress(walks);
     }
     out
 }
