@@ -94,6 +94,18 @@ impl Projected {
         }
     }
 
+    /// `d T(scale m) / d m`: how the transformed model moves with the unit-scale model (zero
+    /// for the square root at `m <= 0`, where it is not differentiable).
+    #[inline]
+    pub fn d_transform_d_model(&self, scale: f64, m: f64) -> f64 {
+        match self.loss {
+            Loss::Sqrt if m > 0.0 => (scale / m).sqrt() / 2.0,
+            Loss::Sqrt => 0.0,
+            Loss::Linear => scale,
+            Loss::Log => scale / (scale * m + self.floor),
+        }
+    }
+
     /// The weighted residual sum of squares of the model `m` at `scale`.
     fn rss(&self, m: &[f64], scale: f64) -> f64 {
         self.y

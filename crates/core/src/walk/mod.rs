@@ -48,7 +48,10 @@ mod microsurface;
 mod null;
 
 pub use engine::{WalkEnd, WalkSample};
-pub use estimate::{AlbedoEstimate, CHUNK, Estimate, Estimator, direction_seed, eval_pairs};
+pub use estimate::{
+    AlbedoEstimate, Batched, CHUNK, Estimate, Estimator, PairEstimate, chunk_walks, direction_seed,
+    eval_pairs, eval_pairs_batched,
+};
 pub use facet::{
     BsdfFacet, ConductorFacet, DielectricFacet, Facet, FacetSample, HeightFieldHit,
     LambertianFacet, VisibleNormals,
