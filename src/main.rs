@@ -39,9 +39,15 @@ enum Command {
     /// Fractions of the incident flux a rough surface reflects and transmits, by random walk
     /// (height-field NDFs, or vmf/porous with --walk null).
     Albedo(cmd::albedo::Args),
+    /// Directional-albedo (energy-compensation) tables: E_ss by quadrature, all orders by
+    /// random walks, on a grid of alpha, gamma, eta and mu or Cycles' nodes (tables-format.md).
+    Tables(Box<cmd::tables::Args>),
     /// Figure-1-style plots (SVG and PNG) of the four model fits of every sample, an overview,
     /// residuals, the fitted NDFs and a markdown table of the fits.
     Report(cmd::report::ReportArgs),
+    /// Write stored fits as renderer materials (Mitsuba 3, pbrt-v4, Cycles, appleseed,
+    /// OpenPBR, V-Ray) or as an LBNL WINDOW BSDF file for Radiance.
+    Export(cmd::export::Args),
 }
 
 /// The fit options of `stfit report` given on its command line (not defaulted), as flags.
@@ -80,6 +86,8 @@ fn main() -> ExitCode {
         Some(Command::Eval(args)) => cmd::eval::run(&args),
         Some(Command::Albedo(args)) => cmd::albedo::run(&args),
         Some(Command::Report(args)) => cmd::report::run(args, &given_fit_flags(&matches)),
+        Some(Command::Tables(args)) => cmd::tables::run(*args),
+        Some(Command::Export(args)) => cmd::export::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -22,12 +22,14 @@ fn every_command_exits_0_on_success_2_on_bad_values_1_on_bad_data() {
     let fits = dir.join("fits.json");
     let bad_fits = dir.file("bad.json", "{\"version\": 1, \"fits\": [{}]}");
     let out = dir.join("report");
-    let (d, b, f, bf, o) = (
+    let table = dir.join("table.csv");
+    let (d, b, f, bf, o, t) = (
         data.to_str().unwrap(),
         bad.to_str().unwrap(),
         fits.to_str().unwrap(),
         bad_fits.to_str().unwrap(),
         out.to_str().unwrap(),
+        table.to_str().unwrap(),
     );
     let ggx = ["--ndf", "ggx", "--alpha", "0.3", "--eta", "1.5"];
     fn with<'a>(head: &[&'a str], tail: &[&'a str]) -> Vec<&'a str> {
@@ -39,6 +41,30 @@ fn every_command_exits_0_on_success_2_on_bad_values_1_on_bad_data() {
             &with(&["albedo", "--theta-i", "30", "--walks", "1000"], &ggx),
             extra,
         )
+    };
+    let tables = |extra: &[&'static str]| {
+        let grid = [
+            "tables",
+            "--ndf",
+            "ggx",
+            "--alpha-grid",
+            "0.3",
+            "--mu-grid",
+            "0.5",
+            "--eta-grid",
+            "1.5",
+            "--out",
+            t,
+        ];
+        // A later value of an option replaces the earlier one.
+        let mut args = grid.to_vec();
+        for pair in extra.chunks(2) {
+            match args.iter().position(|a| *a == pair[0]) {
+                Some(i) => args[i + 1] = pair[1],
+                None => args.extend(pair),
+            }
+        }
+        args
     };
     // (arguments, stdin, expected exit code)
     let cases: Vec<(Vec<&str>, &str, i32)> = vec![
@@ -84,6 +110,23 @@ fn every_command_exits_0_on_success_2_on_bad_values_1_on_bad_data() {
         ),
         (vec!["report", d, "--fits", bf, "--out", o], "", 1),
         (vec!["report", b, "--out", o], "", 1),
+        (tables(&[]), "", 0),
+        (tables(&["--alpha-grid", "0"]), "", 2),
+        (tables(&["--orders", "all", "--walks", "0"]), "", 2),
+        (vec!["tables", "merge", "--out", t, bf], "", 1),
+        (vec!["export", f, "--to", "pbrt-v4"], "", 0),
+        (vec!["export", f, "--to", "blender"], "", 2),
+        (
+            vec!["export", f, "--to", "radiance", "--absorption", "1"],
+            "",
+            2,
+        ),
+        (
+            vec!["export", f, "--to", "mitsuba3", "--layer", "interface"],
+            "",
+            2,
+        ),
+        (vec!["export", bf, "--to", "mitsuba3"], "", 1),
         (vec!["--no-such-flag"], "", 2),
     ];
     for (args, stdin, code) in cases {

@@ -12,10 +12,12 @@ use stfit_core::bsdf::Masking;
 
 pub mod albedo;
 pub mod eval;
+pub mod export;
 pub mod fit;
 pub mod report;
 pub mod surface;
 pub mod synth;
+pub mod tables;
 
 /// Why a command failed. The binary prints `error: <message>` and exits with [`exit_code`].
 ///

@@ -38,6 +38,11 @@ impl GaussLegendre {
         Self { nodes, weights }
     }
 
+    /// The nodes on [-1, 1] with their weights, in increasing order of the node.
+    pub fn points(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.nodes.iter().copied().zip(self.weights.iter().copied())
+    }
+
     /// `integral_a^b f(x) dx` by this rule mapped to [a, b].
     pub fn integrate(&self, a: f64, b: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
         let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
@@ -99,6 +104,14 @@ mod tests {
         let got = rule.integrate(-1.0, 2.0, |x| x.powi(15) - 3.0 * x.powi(4) + 1.0);
         let want = (2f64.powi(16) - 1.0) / 16.0 - 3.0 * (32.0 + 1.0) / 5.0 + 3.0;
         assert!((got - want).abs() < 1e-10 * want.abs(), "{got} vs {want}");
+    }
+
+    #[test]
+    fn points_are_the_rule() {
+        let rule = GaussLegendre::new(5);
+        let by_points: f64 = rule.points().map(|(x, w)| w * x.exp()).sum();
+        assert_eq!(by_points, rule.integrate(-1.0, 1.0, f64::exp));
+        assert!(rule.points().is_sorted_by(|a, b| a.0 < b.0));
     }
 
     #[test]

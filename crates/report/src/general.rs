@@ -21,7 +21,7 @@ use crate::render::{FONT, Figure};
 use crate::style::{
     AnglePalette, GREY, GRID, Glyph, LegendEntry, bold, draw_header, fmt_deg, text,
 };
-use crate::view::ModelSlot;
+use crate::view::{ModelSlot, sample_title};
 use crate::{ReportError, YScale};
 
 /// Spacing of the model curves along the plane of incidence, degrees.
@@ -100,11 +100,7 @@ pub(crate) struct GeneralView<'a> {
 impl<'a> GeneralView<'a> {
     /// The sample's name for titles; `(unnamed)` for a file without a `sample` column.
     pub(crate) fn title(&self) -> &str {
-        if self.name.is_empty() {
-            "(unnamed)"
-        } else {
-            self.name
-        }
+        sample_title(self.name)
     }
 
     /// Prepares a general sample and its fits (checked to belong to it, at most one per slot).

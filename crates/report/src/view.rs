@@ -197,14 +197,15 @@ fn panel_view<'a>(
     })
 }
 
+/// A sample's name for titles: `(unnamed)` for a file without a `sample` column.
+pub(crate) fn sample_title(name: &str) -> &str {
+    if name.is_empty() { "(unnamed)" } else { name }
+}
+
 impl<'a> SampleView<'a> {
     /// The sample's name for titles; `(unnamed)` for a file without a `sample` column.
     pub(crate) fn title(&self) -> &str {
-        if self.name.is_empty() {
-            "(unnamed)"
-        } else {
-            self.name
-        }
+        sample_title(self.name)
     }
 
     /// Prepares a sample and its fits (already checked to belong to it, at most one per slot).

@@ -203,12 +203,17 @@ pub fn radiance(test: &str) -> Option<Radiance> {
     let target = std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| project_root().join("target"));
-    let lib = target.join("python-env/lib");
-    let found = std::fs::read_dir(&lib).ok().and_then(|dirs| {
-        dirs.filter_map(Result::ok)
-            .map(|d| d.path().join("site-packages/pyradiance"))
-            .find(|p| p.join("bin/pabopto2bsdf").is_file())
-    });
+    let env = target.join("python-env");
+    // A virtual environment (lib/pythonX.Y/site-packages) or, where venv is unavailable,
+    // `pip install --target site` (.ci/python-env).
+    let venv = std::fs::read_dir(env.join("lib"))
+        .into_iter()
+        .flatten()
+        .filter_map(Result::ok)
+        .map(|d| d.path().join("site-packages/pyradiance"));
+    let found = venv
+        .chain([env.join("site/pyradiance")])
+        .find(|p| p.join("bin/pabopto2bsdf").is_file() && p.join("bin/checkBSDF").is_file());
     match found {
         Some(p) => Some(Radiance {
             bin: p.join("bin"),
@@ -218,11 +223,11 @@ pub fn radiance(test: &str) -> Option<Radiance> {
             assert!(
                 !under_ci(),
                 "{test}: under CI=true Radiance (pyradiance) is required in {}; run .ci/python-env",
-                lib.display()
+                env.display()
             );
             eprintln!(
                 "{test}: did not run for want of Radiance in {} (run .ci/python-env)",
-                lib.display()
+                env.display()
             );
             None
         }

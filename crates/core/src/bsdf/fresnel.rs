@@ -9,20 +9,41 @@ use nalgebra::Complex;
 /// negative `cos_i` means light arrives from below, where the relative index is `1 / eta`.
 /// Returns 1 under total internal reflection.
 pub fn fresnel_dielectric(cos_i: f64, eta: f64) -> f64 {
-    let (cos_i, eta) = if cos_i < 0.0 {
-        (-cos_i, 1.0 / eta)
+    let (num, den) = reflectance_fraction(cos_i, eta, 1.0 / eta);
+    num / den
+}
+
+/// [`fresnel_dielectric`] as a fraction `(num, den)`, `den > 0`, with the inverse index
+/// `inv_eta = 1 / eta` precomputed: `(1, 1)` under total internal reflection, otherwise
+/// [`fresnel_dielectric_fraction`] of the incident cosine and the transmitted cosine from
+/// Snell's law. For callers that fold the division into their own or compare `u * den < num`
+/// for a sampling choice.
+#[inline]
+pub(crate) fn reflectance_fraction(cos_i: f64, eta: f64, inv_eta: f64) -> (f64, f64) {
+    let (cos_i, eta_t, inv_eta_t) = if cos_i >= 0.0 {
+        (cos_i.min(1.0), eta, inv_eta)
     } else {
-        (cos_i, eta)
+        ((-cos_i).min(1.0), inv_eta, eta)
     };
-    let cos_i = cos_i.min(1.0);
-    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    let sin2_t = (1.0 - cos_i * cos_i) * (inv_eta_t * inv_eta_t);
     if sin2_t >= 1.0 {
-        return 1.0;
+        return (1.0, 1.0);
     }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    let rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    let rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    0.5 * (rs * rs + rp * rp)
+    fresnel_dielectric_fraction(cos_i, (1.0 - sin2_t).sqrt(), eta_t)
+}
+
+/// The unpolarised dielectric Fresnel reflectance `(rs^2 + rp^2) / 2 = num / den` (`den > 0`)
+/// from the incident and transmitted cosines `cos_i, cos_t >= 0` and the relative index `eta`
+/// of the transmission side over the incident side: `rs = (cos_i - eta cos_t) / (cos_i + eta
+/// cos_t)`, `rp = (eta cos_i - cos_t) / (eta cos_i + cos_t)` over their common denominator.
+/// For callers that know `cos_t` anyway (refraction, transmission) and can fold the division
+/// into their own, or compare `u * den < num` for a sampling choice.
+#[inline]
+pub(crate) fn fresnel_dielectric_fraction(cos_i: f64, cos_t: f64, eta: f64) -> (f64, f64) {
+    let (s_num, s_den) = (cos_i - eta * cos_t, cos_i + eta * cos_t);
+    let (p_num, p_den) = (eta * cos_i - cos_t, eta * cos_i + cos_t);
+    let (s2, p2) = (s_den * s_den, p_den * p_den);
+    (0.5 * (s_num * s_num * p2 + p_num * p_num * s2), s2 * p2)
 }
 
 /// Exact unpolarised Fresnel reflectance of a smooth conductor, relative complex index

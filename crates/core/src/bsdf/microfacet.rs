@@ -8,6 +8,7 @@
 //! inside a dielectric is masked by the mirrored surface (Walter et al. 2007). One projected-area
 //! evaluation per direction gives both the visible-normal density and G.
 
+use super::{fresnel_dielectric_fraction, reflectance_fraction};
 use crate::math::Vec3;
 use crate::ndf::Ndf;
 use serde::{Deserialize, Serialize};
@@ -60,7 +61,9 @@ impl Masking {
     /// `G` for reflection from `a_i = 1 + Lambda(wi')` and `a_o = 1 + Lambda(wo')`.
     #[inline]
     pub fn g_reflection(self, a_i: f64, a_o: f64) -> f64 {
-        self.g(true, self.term(a_i), self.term(a_o))
+        // The reflected G depends on `a` alone: no log-gamma to compute.
+        let term = |a| SmithTerm { a, ln_gamma: 0.0 };
+        self.g(true, term(a_i), term(a_o))
     }
 
     /// `G` for transmission from `a_i = 1 + Lambda(wi')` and `a_o = 1 + Lambda(wo')`.
@@ -135,19 +138,38 @@ pub fn reflect(w: Vec3, n: Vec3) -> Vec3 {
 /// interface on the other side, or `None` under total internal reflection.
 #[inline]
 pub fn refract(w: Vec3, n: Vec3, eta: f64) -> Option<Vec3> {
+    refract_with_fresnel(w, n, eta, 1.0 / eta).map(|(wt, _)| wt)
+}
+
+/// [`refract`] with `inv_eta = 1 / eta` precomputed, also returning the Fresnel reflectance of
+/// the interface for `w` as a fraction `(num, den)` ([`fresnel_dielectric_fraction`]): one
+/// square root, the transmitted cosine, serves both. The refracted direction
+/// `(cos_i n - w) / eta_t - cos_t n` is unit up to the rounding of its inputs; one Newton step
+/// for `1/|v|` about 1 removes that rounding (to second order) without a square root or a
+/// division.
+#[inline]
+pub(crate) fn refract_with_fresnel(
+    w: Vec3,
+    n: Vec3,
+    eta: f64,
+    inv_eta: f64,
+) -> Option<(Vec3, (f64, f64))> {
     let cos_i = w.dot(&n);
     // eta_t: index of the transmission side over that of the incident side.
-    let (eta_t, n, cos_i) = if cos_i >= 0.0 {
-        (eta, n, cos_i)
+    let (eta_t, inv_eta_t, n, cos_i) = if cos_i >= 0.0 {
+        (eta, inv_eta, n, cos_i)
     } else {
-        (1.0 / eta, -n, -cos_i)
+        (inv_eta, eta, -n, -cos_i)
     };
-    let sin2_t = (1.0 - cos_i * cos_i).max(0.0) / (eta_t * eta_t);
+    let cos_i = cos_i.min(1.0);
+    let sin2_t = (1.0 - cos_i * cos_i) * (inv_eta_t * inv_eta_t);
     if sin2_t >= 1.0 {
         return None;
     }
     let cos_t = (1.0 - sin2_t).sqrt();
-    Some((-w / eta_t + n * (cos_i / eta_t - cos_t)).normalize())
+    let v = (n * cos_i - w) * inv_eta_t - n * cos_t;
+    let wt = v * (1.5 - 0.5 * v.norm_squared());
+    Some((wt, fresnel_dielectric_fraction(cos_i, cos_t, eta_t)))
 }
 
 /// Walter et al. 2007's half vector of a pair of directions, with the cosines and indices of
@@ -201,11 +223,7 @@ impl HalfVector {
         reflect: bool,
         toward: Vec3,
     ) -> Option<Self> {
-        let v = if reflect {
-            wi + wo
-        } else {
-            -(wi * n_i + wo * n_o)
-        };
+        let v = Self::unnormalised(wi, wo, n_i, n_o, reflect);
         let len = v.norm();
         if len == 0.0 || !len.is_finite() {
             return None;
@@ -225,17 +243,76 @@ impl HalfVector {
         })
     }
 
+    /// The half vector before normalisation and orientation: `wi + wo` for reflection,
+    /// `-(n_i wi + n_o wo)` for refraction.
+    #[inline]
+    pub(crate) fn unnormalised(wi: Vec3, wo: Vec3, n_i: f64, n_o: f64, reflect: bool) -> Vec3 {
+        if reflect {
+            wi + wo
+        } else {
+            -(wi * n_i + wo * n_o)
+        }
+    }
+
+    /// The half vector from its oriented unnormalised form `v`, `v_i = wi.v`, `v_o = wo.v` and
+    /// `inv_len = 1 / |v|`, for callers that test the signs of `v_i`, `v_o` before paying for
+    /// the normalisation.
+    #[inline]
+    pub(crate) fn from_scaled(
+        v: Vec3,
+        v_i: f64,
+        v_o: f64,
+        inv_len: f64,
+        n_i: f64,
+        n_o: f64,
+        reflect: bool,
+    ) -> Self {
+        Self {
+            h: v * inv_len,
+            cos_ih: v_i * inv_len,
+            cos_oh: v_o * inv_len,
+            n_i,
+            n_o,
+            reflect,
+        }
+    }
+
     /// `|d omega_h / d omega_o|`, the Jacobian of the half-vector map: `1 / (4 |wo.h|)` for
     /// reflection (Walter et al. 2007, eq. 14) and `n_o^2 |wo.h| / (n_i wi.h + n_o wo.h)^2` for
     /// refraction (eq. 17).
     #[inline]
     pub fn jacobian(&self) -> f64 {
+        let (num, den) = self.jacobian_fraction();
+        num / den
+    }
+
+    /// [`HalfVector::jacobian`] as a fraction `(num, den)`.
+    #[inline]
+    fn jacobian_fraction(&self) -> (f64, f64) {
         if self.reflect {
-            0.25 / self.cos_oh.abs()
+            (1.0, 4.0 * self.cos_oh.abs())
         } else {
             let denom = self.n_i * self.cos_ih + self.n_o * self.cos_oh;
-            self.n_o * self.n_o * self.cos_oh.abs() / (denom * denom)
+            (self.n_o * self.n_o * self.cos_oh.abs(), denom * denom)
         }
+    }
+
+    /// `|d omega_h / d omega_o|` times the lobe's Fresnel weight (`F` or `1 - F`, `F = F(wi.h)`)
+    /// at a dielectric interface of index `eta` on the side `-h` points to and 1 on the side of
+    /// `h` (`inv_eta = 1 / eta`), with one division. For refraction `wo` is the refraction of
+    /// `wi` about `h` (the defining property of the generalised half vector), so `|wo.h|` is
+    /// the transmitted cosine and Fresnel needs no square root.
+    #[inline]
+    pub(crate) fn dielectric_weight(&self, eta: f64, inv_eta: f64) -> f64 {
+        let (f_num, f_den) = if self.reflect {
+            reflectance_fraction(self.cos_ih, eta, inv_eta)
+        } else {
+            let eta_t = if self.cos_ih >= 0.0 { eta } else { inv_eta };
+            fresnel_dielectric_fraction(self.cos_ih.abs(), self.cos_oh.abs(), eta_t)
+        };
+        let lobe = if self.reflect { f_num } else { f_den - f_num };
+        let (j_num, j_den) = self.jacobian_fraction();
+        lobe * j_num / (f_den * j_den)
     }
 
     /// The Fresnel weight of the lobe: `F` for reflection, `1 - F` for refraction, given the
@@ -260,19 +337,49 @@ impl HalfVector {
 mod tests {
     use super::*;
 
+    /// Refraction obeys Snell's law, leaves on the other side, is unit to rounding and round
+    /// trips; the Fresnel fraction returned with it is `fresnel_dielectric`, the same from both
+    /// sides of the refraction.
     #[test]
     fn refraction_obeys_snell_and_round_trips() {
         let m = Vec3::new(0.3, -0.2, 0.9).normalize();
         let wi = Vec3::new(-0.5, 0.1, 0.7).normalize();
         for eta in [1.51, 1.0 / 1.51] {
-            let Some(wt) = refract(wi, m, eta) else {
+            let Some((wt, (num, den))) = refract_with_fresnel(wi, m, eta, 1.0 / eta) else {
                 continue;
             };
+            assert_eq!(refract(wi, m, eta), Some(wt));
             let (si, st) = (wi.cross(&m).norm(), wt.cross(&m).norm());
             assert!((si - eta * st).abs() < 1e-12);
             assert!(wt.dot(&m) < 0.0);
-            let back = refract(wt, m, eta).unwrap();
+            assert!((wt.norm() - 1.0).abs() < 1e-15);
+            let f = num / den;
+            assert!((f - super::super::fresnel_dielectric(wi.dot(&m), eta)).abs() < 1e-15);
+            let (back, (num, den)) = refract_with_fresnel(wt, m, eta, 1.0 / eta).unwrap();
             assert!((back - wi).norm() < 1e-12);
+            assert!((num / den - f).abs() < 1e-15);
+        }
+    }
+
+    /// `dielectric_weight` is the Jacobian times the Fresnel weight of the lobe, for
+    /// reflection and refraction from both sides, with the transmitted cosine taken from `wo`.
+    #[test]
+    fn dielectric_weight_is_jacobian_times_fresnel_weight() {
+        let eta = 1.51;
+        let m = Vec3::new(0.2, 0.1, 0.95).normalize();
+        for wi in [Vec3::new(-0.4, 0.3, 0.8), Vec3::new(0.3, -0.2, -0.9)] {
+            let wi = wi.normalize();
+            let wt = refract(wi, m, eta).unwrap();
+            for wo in [wt, reflect(wi, m)] {
+                let hv = HalfVector::new(wi, wo, eta).unwrap();
+                let f = super::super::fresnel_dielectric(hv.cos_ih, eta);
+                let expected = hv.jacobian() * hv.lobe_weight(f);
+                let got = hv.dielectric_weight(eta, 1.0 / eta);
+                assert!(
+                    (got - expected).abs() < 1e-13 * expected,
+                    "{got} vs {expected}"
+                );
+            }
         }
     }
 

@@ -1,6 +1,6 @@
 //! The rough dielectric of Walter et al. 2007, generic over the NDF.
 
-use super::microfacet::{HalfVector, Masking, projected_area, reflect, refract, upper};
+use super::microfacet::{HalfVector, Masking, SmithTerm, projected_area, reflect, refract, upper};
 use super::{AnalyticBsdf, Bsdf, BsdfSample, fresnel_dielectric};
 use crate::error::{ParamError, check_eta};
 use crate::math::Vec3;
@@ -61,14 +61,42 @@ impl<N: Ndf> RoughDielectric<N> {
         self.masking
     }
 
+    /// The Smith term of the direction `w` (either side) for this interface's masking, `a = 1 +
+    /// Lambda(w')` ([`Masking::term`]). Callers that evaluate many pairs sharing directions
+    /// compute it once per direction and call [`RoughDielectric::f_cos_with_terms`].
+    pub fn smith_term(&self, w: Vec3) -> SmithTerm {
+        self.masking.term(projected_area(&self.ndf, w) / w.z.abs())
+    }
+
+    /// [`AnalyticBsdf::f_cos`] from the Smith terms of `wi` and `wo`
+    /// ([`RoughDielectric::smith_term`]).
+    #[inline]
+    pub fn f_cos_with_terms(&self, wi: Vec3, wo: Vec3, t_i: SmithTerm, t_o: SmithTerm) -> f64 {
+        self.f_cos_by(wi, wo, || (t_i, t_o))
+    }
+
+    /// `f_cos` with the Smith terms computed by `terms` only where a facet connects the pair.
+    #[inline]
+    fn f_cos_by(&self, wi: Vec3, wo: Vec3, terms: impl FnOnce() -> (SmithTerm, SmithTerm)) -> f64 {
+        let Some(hv) = HalfVector::new(wi, wo, self.eta) else {
+            return 0.0;
+        };
+        let d = self.ndf.d(hv.h);
+        if d == 0.0 {
+            return 0.0;
+        }
+        let (t_i, t_o) = terms();
+        let f = fresnel_dielectric(hv.cos_ih, self.eta);
+        hv.walter_factor(wi.z, f) * self.masking.g(hv.reflect, t_i, t_o) * d
+    }
+
     #[inline]
     fn density_of(&self, hv: &HalfVector, sigma_i: f64) -> f64 {
         let d = self.ndf.d(hv.h);
         if d == 0.0 || sigma_i <= 0.0 || sigma_i.is_nan() {
             return 0.0;
         }
-        let f = fresnel_dielectric(hv.cos_ih, self.eta);
-        hv.cos_ih.abs() * d / sigma_i * hv.jacobian() * hv.lobe_weight(f)
+        hv.cos_ih.abs() * d / sigma_i * hv.dielectric_weight(self.eta, 1.0 / self.eta)
     }
 }
 
@@ -81,18 +109,7 @@ impl<N: Ndf> AnalyticBsdf for RoughDielectric<N> {
     /// `f_r = F G D / (4 |wi.z| |wo.z|)`,
     /// `f_t = |wi.h| |wo.h| n_o^2 (1 - F) G D / (|wi.z| |wo.z| (n_i wi.h + n_o wo.h)^2)`.
     fn f_cos(&self, wi: Vec3, wo: Vec3) -> f64 {
-        let Some(hv) = HalfVector::new(wi, wo, self.eta) else {
-            return 0.0;
-        };
-        let d = self.ndf.d(hv.h);
-        if d == 0.0 {
-            return 0.0;
-        }
-        let m = self.masking;
-        let a_i = m.term(projected_area(&self.ndf, wi) / wi.z.abs());
-        let a_o = m.term(projected_area(&self.ndf, wo) / wo.z.abs());
-        let f = fresnel_dielectric(hv.cos_ih, self.eta);
-        hv.walter_factor(wi.z, f) * m.g(hv.reflect, a_i, a_o) * d
+        self.f_cos_by(wi, wo, || (self.smith_term(wi), self.smith_term(wo)))
     }
 
     /// Solid-angle density of `wo` under [`Bsdf::sample`]:

@@ -47,6 +47,7 @@ impl Ggx {
 impl Ndf for Ggx {
     /// `alpha^2 / (pi (alpha^2 cos^2 + sin^2)^2)`, the same formula multiplied through by
     /// `cos^4` so that it stays finite (`1 / (pi alpha^2)`) at grazing normals.
+    #[inline]
     fn d(&self, wm: Vec3) -> f64 {
         let Some((u2, sin2)) = cos2_sin2(wm) else {
             return 0.0;
@@ -56,13 +57,16 @@ impl Ndf for Ggx {
         a2 / (PI * k * k)
     }
 
-    /// `Lambda = (-1 + sqrt(1 + alpha^2 tan^2 theta)) / 2`.
+    /// `Lambda = (-1 + sqrt(1 + alpha^2 tan^2 theta)) / 2`, written with the stretched length
+    /// `r = sqrt(w.z^2 + alpha^2 sin^2 theta)` as `alpha^2 sin^2 / (2 |w.z| (r + |w.z|))`: one
+    /// square root and one division, no cancellation, and `+inf` at the horizon. Below the
+    /// horizon `Lambda(-w) = -1 - Lambda(w)`.
+    #[inline]
     fn lambda(&self, w: Vec3) -> f64 {
-        let a = self.alpha;
-        lambda_on_sphere(w, |mu| {
-            let x = a / mu;
-            // (-1 + sqrt(1 + x^2)) / 2 without cancellation for small x.
-            0.5 * x * x / (1.0 + (1.0 + x * x).sqrt())
+        let a2 = self.alpha * self.alpha;
+        lambda_on_sphere(w, |c, s2| {
+            let t = a2 * s2;
+            0.5 * t / (c * ((c * c + t).sqrt() + c))
         })
     }
 
@@ -80,12 +84,23 @@ impl Ndf for Ggx {
     }
 
     /// Exact sampling by stretching to alpha = 1 and drawing from a spherical cap (Dupuy and
-    /// Benyoub 2023); valid for every `w`, including below the horizon. Draws two uniforms and
-    /// calls [`Ggx::sample_visible_from`].
+    /// Benyoub 2023); valid for every `w`, including below the horizon. The cap is drawn in
+    /// units of the stretched length `l = |(alpha w.x, alpha w.y, w.z)|`, so the stretched
+    /// direction is never normalised, and without trigonometry: a point `(x1, x2)` uniform in
+    /// the unit disk (by rejection from its square, 4/pi tries on average) has a uniform
+    /// azimuth and an independent uniform `s = x1^2 + x2^2`, which places the point's height
+    /// `z = 1 - (1 + w_s.z) s` uniformly on the cap (Marsaglia 1972); its horizontal part is
+    /// `(x1, x2) sqrt((1 - z^2) / s)`.
     fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3 {
-        let u1: f64 = rng.random();
-        let u2: f64 = rng.random();
-        self.sample_visible_from(w, [u1, u2])
+        let (x1, x2, s) = loop {
+            let x1 = 2.0 * rng.random::<f64>() - 1.0;
+            let x2 = 2.0 * rng.random::<f64>() - 1.0;
+            let s = x1 * x1 + x2 * x2;
+            if s < 1.0 {
+                break (x1, x2, s);
+            }
+        };
+        self.cap_normal(w, x1, x2, s)
     }
 }
 
@@ -94,7 +109,9 @@ impl Ggx {
     /// `TrowbridgeReitzDistribution::Sample_wm(w, u)`, with Dupuy and Benyoub 2023's
     /// spherical cap in place of the disk): `u[0]` sets the azimuth about the stretched `w`,
     /// `u[1]` the height on the cap. Uniform `u` gives exactly the density
-    /// [`Ndf::d_visible`], for every `w` on the sphere.
+    /// [`Ndf::d_visible`], for every `w` on the sphere. [`Ndf::sample_visible`] draws the
+    /// same cap point from a uniform point of the unit disk instead, without trigonometry,
+    /// so the two do not map a generator's numbers to the same normals.
     ///
     /// ```
     /// use stfit_core::Vec3;
@@ -108,17 +125,33 @@ impl Ggx {
     /// # Ok::<(), stfit_core::ParamError>(())
     /// ```
     pub fn sample_visible_from(&self, w: Vec3, u: [f64; 2]) -> Vec3 {
+        let (sp, cp) = (2.0 * PI * u[0]).sin_cos();
+        let r = u[1].sqrt();
+        self.cap_normal(w, r * cp, r * sp, u[1])
+    }
+
+    /// The visible normal seen from `w` for the point `(x1, x2)` of the unit disk with
+    /// `s = x1^2 + x2^2`: its azimuth is the azimuth about the stretched direction
+    /// `w_s = (alpha w.x, alpha w.y, w.z)` and `s` the uniform that places the height
+    /// `z = 1 - (1 + w_s.z) s` on the spherical cap (Dupuy and Benyoub 2023; Marsaglia 1972
+    /// for the disk's `s`). The cap is formed in units of the stretched length
+    /// `l = |w_s|`, so `w_s` is never normalised: `l (1 - z) = p = s (l + w_s.z)` and
+    /// `l^2 (1 - z^2) / s = (l + w_s.z) (2 l - p)`, without cancellation near the cap's pole.
+    /// The cap point plus `w_s` is unstretched to the normal. One square root and one
+    /// division besides `l`.
+    #[inline]
+    fn cap_normal(&self, w: Vec3, x1: f64, x2: f64, s: f64) -> Vec3 {
         let a = self.alpha;
-        let ws = Vec3::new(a * w.x, a * w.y, w.z).normalize();
-        let phi = 2.0 * PI * u[0];
-        let z = (1.0 - u[1]) * (1.0 + ws.z) - ws.z;
-        let st = safe_sqrt(1.0 - z * z);
-        let (sp, cp) = phi.sin_cos();
-        let h = Vec3::new(st * cp + ws.x, st * sp + ws.y, z + ws.z);
+        let ws = Vec3::new(a * w.x, a * w.y, w.z);
+        let l = ws.norm();
+        let q = l + ws.z;
+        let p = s * q;
+        let r = safe_sqrt(q * (2.0 * l - p));
+        let h = Vec3::new(r * x1 + ws.x, r * x2 + ws.y, (l - p) + ws.z);
         let m = Vec3::new(a * h.x, a * h.y, h.z.max(0.0));
-        let n = m.norm();
-        if n > 0.0 && m.z > 0.0 {
-            m / n
+        let n2 = m.norm_squared();
+        if n2 > 0.0 && m.z > 0.0 {
+            m * (1.0 / n2.sqrt())
         } else {
             // Measure-zero draw exactly on the cap's rim: fall back to the stretched view.
             let m = Vec3::new(a * ws.x, a * ws.y, ws.z.abs().max(f64::MIN_POSITIVE));

@@ -79,18 +79,18 @@ pub(crate) fn cos2_sin2(wm: Vec3) -> Option<(f64, f64)> {
     Some((u2, (wm.x * wm.x + wm.y * wm.y).min(1.0)))
 }
 
-/// Extends a Lambda defined for upward directions, given as a function of `mu = cot(theta) >
-/// 0`, to the whole sphere by `Lambda(-w) = -1 - Lambda(w)`.
+/// Extends a Lambda defined for upward directions to the whole sphere by `Lambda(-w) = -1 -
+/// Lambda(w)`: `lambda_up(|w.z|, sin^2 theta)` is called off the pole and the horizon (0 at
+/// the upward pole, `+inf` at the horizon).
 #[inline]
-pub(crate) fn lambda_on_sphere(w: Vec3, lambda_up: impl Fn(f64) -> f64) -> f64 {
-    let (c, s) = crate::math::cos_sin_theta(w);
-    if s == 0.0 {
-        return if c > 0.0 { 0.0 } else { -1.0 };
+pub(crate) fn lambda_on_sphere(w: Vec3, lambda_up: impl Fn(f64, f64) -> f64) -> f64 {
+    let s2 = w.x * w.x + w.y * w.y;
+    if s2 == 0.0 {
+        return if w.z > 0.0 { 0.0 } else { -1.0 };
     }
-    if c == 0.0 {
+    if w.z == 0.0 {
         return f64::INFINITY;
     }
-    let mu = c.abs() / s;
-    let l = lambda_up(mu);
-    if c > 0.0 { l } else { -1.0 - l }
+    let l = lambda_up(w.z.abs(), s2);
+    if w.z > 0.0 { l } else { -1.0 - l }
 }

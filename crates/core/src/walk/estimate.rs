@@ -71,9 +71,17 @@ struct Sums {
 impl Sums {
     #[inline]
     fn add(&mut self, x: f64) {
-        self.n += 1.0;
+        let n = self.n + 1.0;
+        self.add_nth(x, n, 1.0 / n);
+    }
+
+    /// [`Sums::add`] of the `n`-th value given `inv_n = 1/n`, for many running sums that
+    /// advance together and can share the division.
+    #[inline]
+    fn add_nth(&mut self, x: f64, n: f64, inv_n: f64) {
+        self.n = n;
         let d = x - self.mean;
-        self.mean += d / self.n;
+        self.mean += d * inv_n;
         self.m2 += d * (x - self.mean);
     }
 
@@ -291,7 +299,7 @@ pub(crate) fn eval_many<W: Walker>(
             let mut rng = chunk_rng(seed, c);
             let mut sums = vec![Sums::default(); k];
             let mut acc = vec![0.0f64; k];
-            for _ in 0..chunk_len(walks, c) {
+            for i in 0..chunk_len(walks, c) {
                 acc.fill(0.0);
                 if let Some(start) = &start {
                     w.walk(start, &mut rng, |hit, rng| {
@@ -308,8 +316,11 @@ pub(crate) fn eval_many<W: Walker>(
                         }
                     });
                 }
+                // Every target's sums advance together: one division per walk, not per target.
+                let n = (i + 1) as f64;
+                let inv_n = 1.0 / n;
                 for (s, &a) in sums.iter_mut().zip(&acc) {
-                    s.add(a);
+                    s.add_nth(a, n, inv_n);
                 }
             }
             sums

@@ -5,7 +5,7 @@
 //! arrive at a facet from either side. Directions are in the macro-surface frame.
 
 use super::Microsurface;
-use crate::bsdf::{Bsdf, HalfVector, fresnel_conductor, fresnel_dielectric, reflect, refract};
+use crate::bsdf::{Bsdf, HalfVector, fresnel_conductor, reflect, refract_with_fresnel};
 use crate::error::{ParamError, check_eta, finite};
 use crate::math::{Frame, Vec3, safe_sqrt};
 use crate::ndf::Ndf;
@@ -90,7 +90,9 @@ impl<N: Ndf> VisibleNormals for HeightFieldHit<'_, N> {
         if c <= 0.0 || self.sigma.is_nan() || self.sigma <= 0.0 {
             return 0.0;
         }
-        c * self.ndf.d(m) / self.sigma
+        // 1/sigma does not depend on m: its division runs beside D's instead of after it.
+        let inv_sigma = 1.0 / self.sigma;
+        c * inv_sigma * self.ndf.d(m)
     }
 
     #[inline]
@@ -136,13 +138,17 @@ pub trait Facet: Send + Sync {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DielectricFacet {
     eta: f64,
+    /// `1 / eta`.
+    inv_eta: f64,
 }
 
 impl DielectricFacet {
     /// A dielectric facet with relative index `eta = n_below / n_above` (finite, > 0, != 1).
     pub fn new(eta: f64) -> Result<Self, ParamError> {
+        let eta = check_eta(eta)?;
         Ok(Self {
-            eta: check_eta(eta)?,
+            eta,
+            inv_eta: 1.0 / eta,
         })
     }
 
@@ -154,38 +160,56 @@ impl DielectricFacet {
 
 impl Facet for DielectricFacet {
     fn scatter<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample> {
-        let f = fresnel_dielectric(wi.dot(&m), self.eta);
-        let wo = if rng.random::<f64>() < f {
-            reflect(wi, m)
-        } else {
-            // Fresnel is 1 under total internal reflection; reflect if rounding disagrees.
-            refract(wi, m, self.eta).unwrap_or_else(|| reflect(wi, m))
+        // Under total internal reflection the Fresnel reflectance is 1: no choice to draw.
+        // Refract with probability 1 - F, decided without dividing for F.
+        let wo = match refract_with_fresnel(wi, m, self.eta, self.inv_eta) {
+            Some((wt, (num, den))) if rng.random::<f64>() * den >= num => wt,
+            _ => reflect(wi, m),
         };
         Some(FacetSample { wo, weight: 1.0 })
     }
 
     /// Closed form (Walter et al. 2007 through the visible-normal density): with `h` the
     /// (generalised) half vector, reflection gives `F D_vis(h) / (4 |wi.h|)` and transmission
-    /// `(1 - F) D_vis(h) |wo.h| n_o^2 / (n_i wi.h + n_o wo.h)^2`.
+    /// `(1 - F) D_vis(h) |wo.h| n_o^2 / (n_i wi.h + n_o wo.h)^2`
+    /// ([`HalfVector::dielectric_weight`]).
+    ///
+    /// The geometric checks need only the signs of `wi.v` and `wo.v` for the unnormalised half
+    /// vector `v = |v| h`, so the normalisation (whose square root and division run side by
+    /// side) waits until they pass; for many directions they do not.
     fn phase<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, _rng: &mut R) -> f64 {
         let wi = vis.wi();
         let o_inside = wo.z < 0.0;
         let n_i = if vis.inside() { self.eta } else { 1.0 };
         let n_o = if o_inside { self.eta } else { 1.0 };
         let reflection = o_inside == vis.inside();
-        let Some(hv) = HalfVector::of_pair(wi, wo, n_i, n_o, reflection, vis.wi_side()) else {
-            return 0.0;
+        let v = HalfVector::unnormalised(wi, wo, n_i, n_o, reflection);
+        let n2 = v.norm_squared();
+        let (v, n2) = if n2 > 1e-300 && n2 < 1e300 {
+            // Oriented to the walker's side, as `HalfVector::of_pair` would.
+            (if vis.wi_side().dot(&v) < 0.0 { -v } else { v }, n2)
+        } else {
+            // Degenerate (measure zero) or astronomically large half vectors: normalise first.
+            match HalfVector::of_pair(wi, wo, n_i, n_o, reflection, vis.wi_side()) {
+                Some(hv) => (hv.h, 1.0),
+                None => return 0.0,
+            }
         };
         let side = if vis.inside() { -1.0 } else { 1.0 };
+        // |v| times wi.h and wo.h.
+        let (vi, vo) = (wi.dot(&v), wo.dot(&v));
         // The facet must face the walker, and wo must leave it on the right side.
-        if side * hv.cos_ih <= 0.0 || (side * hv.cos_oh > 0.0) != reflection {
+        if side * vi <= 0.0 || (side * vo > 0.0) != reflection {
             return 0.0;
         }
+        // 1/|v| = sqrt(n2) / n2: the root and the division run side by side.
+        let inv_len = n2.sqrt() * (1.0 / n2);
+        let hv = HalfVector::from_scaled(v, vi, vo, inv_len, n_i, n_o, reflection);
         let d_vis = vis.density(hv.h);
         if d_vis == 0.0 {
             return 0.0;
         }
-        d_vis * hv.jacobian() * hv.lobe_weight(fresnel_dielectric(hv.cos_ih, self.eta))
+        d_vis * hv.dielectric_weight(self.eta, self.inv_eta)
     }
 
     /// Sample weights are 1, so the sampling density is the phase function.

@@ -251,4 +251,32 @@ mod tests {
             assert!((sum - 1.0).abs() < 1e-15);
         }
     }
+
+    /// `-ln(1 - exp(-t))` against mpmath (60 digits) on both sides of `ln 2`, from the top
+    /// of the surface (`t = 1e-300`) to deep below it (`t = 700`, where the result is
+    /// `exp(-t)` itself).
+    #[test]
+    // 0.6931 and 0.6932 bracket ln 2 on purpose.
+    #[allow(clippy::excessive_precision, clippy::approx_constant)]
+    fn mirrored_depth_matches_high_precision_references() {
+        let refs = [
+            (1e-300, 690.775_527_898_213_71),
+            (1e-9, 20.723_265_837_446_411),
+            (0.01, 4.610_166_019_324_896_9),
+            (0.3, 1.350_225_612_814_846_7),
+            (0.6931, 0.693_194_363_346_000_89),
+            (0.6932, 0.693_094_363_909_636_51),
+            (1.0, 0.458_675_145_387_081_89),
+            (3.0, 0.051_069_180_942_701_587),
+            (30.0, 9.357_622_968_840_612_4e-14),
+            (700.0, 9.859_676_543_759_770_9e-305),
+        ];
+        for (t, r) in refs {
+            let d = mirrored_depth(t);
+            assert!(
+                ((d - r) / r).abs() < 4.5e-16,
+                "mirrored_depth({t}) = {d}, want {r}"
+            );
+        }
+    }
 }

@@ -1,0 +1,155 @@
+//! The fitted model to export: a stored fit's [`Model`] (which carries everything needed to
+//! evaluate it again) and a description of where it came from, for file comments.
+
+use stfit_core::Vec3;
+use stfit_core::bsdf::RoughDielectric;
+use stfit_core::ndf::AnyNdf;
+use stfit_core::walk::{DielectricFacet, Microsurface, ScatteringOrders};
+use stfit_fit::data::Quantity;
+use stfit_fit::forward::Forward;
+use stfit_fit::{FitResult, Gamma, Model};
+
+use crate::ExportError;
+
+/// A fitted rough-dielectric model ready to export.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExportModel {
+    /// The fitted model: NDF, alpha, gamma, the fit's calibration scale, eta, masking, orders,
+    /// walks and seed. The scale is not part of the physical BSDF and no export applies it;
+    /// translations are measured in the fit's units `sqrt(L)`, which include it.
+    pub model: Model,
+    ndf: AnyNdf,
+    /// What was fitted to what: sample, model, fit quality, data file, stfit version.
+    pub source: String,
+}
+
+impl ExportModel {
+    /// The model of a stored fit, described by the fit's sample, model, rmse, data file and
+    /// stfit version.
+    pub fn from_fit(fit: &FitResult) -> Result<Self, ExportError> {
+        let data = fit.data.as_deref().unwrap_or("data not from a file");
+        let source = format!(
+            "{}, rmse sqrt(L) {:.4} over {} points of {data}, fitted by stfit {}",
+            fit.label(),
+            fit.rmse_sqrt_l,
+            fit.n_points,
+            fit.stfit_version
+        );
+        Self::new(fit.model, source)
+    }
+
+    /// `model` to export, described by `source`; refuses a model that cannot be evaluated
+    /// ([`Model::check`]).
+    pub fn new(model: Model, source: impl Into<String>) -> Result<Self, ExportError> {
+        model.check()?;
+        Ok(Self {
+            ndf: model.ndf()?,
+            model,
+            source: source.into(),
+        })
+    }
+
+    /// The fitted NDF.
+    pub fn ndf(&self) -> AnyNdf {
+        self.ndf
+    }
+
+    /// Relative index of the glass, `n_inside / n_outside`.
+    pub fn eta(&self) -> f64 {
+        self.model.eta
+    }
+
+    /// The fit's calibration factor (measured `L` = scale times the model's).
+    pub fn scale(&self) -> f64 {
+        self.model.scale
+    }
+
+    /// The roughness alpha.
+    pub fn alpha(&self) -> f64 {
+        self.model.alpha
+    }
+
+    /// The Student-T shape, `None` for Beckmann and GGX.
+    pub fn gamma(&self) -> Option<f64> {
+        self.model.gamma.value()
+    }
+
+    /// The model in one line for comments: `student-t alpha 0.2 gamma 3 (free), eta 1.51,
+    /// separable masking, orders single`.
+    pub fn describe(&self) -> String {
+        let m = &self.model;
+        let gamma = match m.gamma {
+            Gamma::NotApplicable => String::new(),
+            Gamma::Fixed(g) => format!(" gamma {g} (held fixed)"),
+            Gamma::Free(g) => format!(" gamma {g}"),
+        };
+        let walks = match (m.walks, m.seed) {
+            (Some(w), Some(s)) => format!(" ({w} walks per incidence direction, seed {s})"),
+            _ => String::new(),
+        };
+        format!(
+            "{} alpha {}{gamma}, eta {}, {} masking, orders {}{walks}",
+            m.kind.name(),
+            m.alpha,
+            m.eta,
+            m.masking.name(),
+            m.orders.name()
+        )
+    }
+
+    /// The analytic single-scattering BSDF of the model with its masking (height-correlated for
+    /// an all-orders model: the random walk's order 1).
+    pub fn single(&self) -> RoughDielectric<AnyNdf> {
+        RoughDielectric::new(self.ndf, self.model.eta, self.model.masking)
+            .expect("the model was checked")
+    }
+
+    /// The microsurface of the model's NDF with dielectric facets (random walk), restricted to
+    /// `orders`.
+    pub fn microsurface(&self, orders: ScatteringOrders) -> Microsurface<AnyNdf, DielectricFacet> {
+        let facet = DielectricFacet::new(self.model.eta).expect("the model was checked");
+        Microsurface::new(self.ndf, facet).with_orders(orders)
+    }
+
+    /// The fitted model's value `q_j f(wi_j, wo_j)` at every pair, by the library's forward
+    /// model (the one the fit used: for all orders, its walks and seed); `f` is the BSDF and
+    /// `q_j` the quantity per unit BSDF value.
+    pub fn forward_values(
+        &self,
+        pairs: &[(Vec3, Vec3)],
+        q: Vec<f64>,
+    ) -> Result<Vec<f64>, ExportError> {
+        let m = &self.model;
+        let forward = Forward::new(
+            pairs,
+            vec![Quantity::Bsdf; pairs.len()],
+            m.masking,
+            m.orders,
+            m.walks.unwrap_or(0),
+            m.seed.unwrap_or(0),
+        )?;
+        let mut out = Vec::with_capacity(pairs.len());
+        forward.unit_model(&self.ndf, m.eta, &mut out)?;
+        out.iter_mut().zip(&q).for_each(|(v, q)| *v *= q);
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use stfit_fit::ModelKind;
+
+    /// A model that cannot be evaluated is refused with the library's reason.
+    #[test]
+    fn invalid_models_are_refused() {
+        let bad = Model::single(ModelKind::Ggx, -0.1, Gamma::NotApplicable, 1.0);
+        assert!(ExportModel::new(bad, "x").is_err());
+        let bad = Model {
+            orders: ScatteringOrders::All,
+            ..Model::single(ModelKind::Ggx, 0.3, Gamma::NotApplicable, 1.0)
+        };
+        let e = ExportModel::new(bad, "x").unwrap_err().to_string();
+        assert!(e.contains("correlated"), "{e}");
+    }
+}

@@ -1,0 +1,99 @@
+//! Mitsuba 3: a `roughdielectric` BSDF element and the equivalent Python dict.
+//!
+//! Conventions from mitsuba-renderer/mitsuba3, src/bsdfs/roughdielectric.cpp: parameters
+//! `distribution` (`beckmann`, the default, or `ggx`), `alpha` (used as is, no remapping),
+//! `int_ior` (default bk7), `ext_ior` (default air, 1.000277: written as 1 so that the
+//! relative index is the fitted eta), `sample_visible`, `alpha_u`/`alpha_v`,
+//! `specular_reflectance`/`specular_transmittance`. Walter et al. 2007 with separable
+//! `G = smith_g1(wi) smith_g1(wo)` (include/mitsuba/render/microfacet.h; Beckmann's G1 there is
+//! a rational approximation, [`Smith::MitsubaSeparable`]).
+
+use super::{Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet};
+use crate::target::Smith;
+use crate::translate::{Reference, Translation};
+use crate::{ExportError, ExportModel};
+use stfit_core::ndf::AnyNdf;
+
+/// The roughdielectric parameters stfit writes, all defined by Mitsuba 3.
+pub const PARAMETERS: [&str; 4] = ["distribution", "alpha", "int_ior", "ext_ior"];
+
+fn family(ndf: Family1, eta: f64) -> Microfacet {
+    Microfacet {
+        ndf,
+        eta,
+        smith: Smith::MitsubaSeparable,
+        map: super::AlphaMap::Alpha,
+        name: "alpha",
+        max_param: 10.0,
+    }
+}
+
+/// The translation to Mitsuba's GGX or Beckmann (the better of the two for a Student-T fit).
+pub fn translation(
+    model: &ExportModel,
+    reference: &Reference,
+    warnings: &mut Vec<String>,
+) -> Result<(Family1, Translation), ExportError> {
+    let candidates: &[Family1] = match model.ndf() {
+        AnyNdf::Ggx(_) => &[Family1::Ggx],
+        AnyNdf::Beckmann(_) => &[Family1::Beckmann],
+        AnyNdf::StudentT(_) => &[Family1::Ggx, Family1::Beckmann],
+    };
+    let mut best: Option<(Family1, Translation)> = None;
+    for &c in candidates {
+        let t = translate_microfacet(&family(c, model.eta()), model, reference, warnings)?;
+        if best.as_ref().is_none_or(|(_, b)| t.rmse < b.rmse) {
+            best = Some((c, t));
+        }
+    }
+    Ok(best.expect("at least one candidate"))
+}
+
+/// Writes the XML element and the Python dict.
+pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Export, ExportError> {
+    let mut warnings = Vec::new();
+    let (ndf, t) = translation(model, reference, &mut warnings)?;
+    let alpha = t.params[0].value;
+    let dist = match ndf {
+        Family1::Ggx => "ggx",
+        Family1::Beckmann => "beckmann",
+    };
+    let notes = provenance(
+        model,
+        Some(&t),
+        &[
+            "Mitsuba 3 roughdielectric: alpha used as is (no remapping), separable Smith G (src/bsdfs/roughdielectric.cpp)",
+        ],
+    );
+    let mut xml = String::from("<!--\n");
+    for n in &notes {
+        xml.push_str(&format!("  {}\n", n.replace("--", "- -")));
+    }
+    xml.push_str("-->\n");
+    xml.push_str(&format!(
+        "<bsdf type=\"roughdielectric\" id=\"{id}\">\n    <string name=\"distribution\" value=\"{dist}\"/>\n    <float name=\"alpha\" value=\"{alpha}\"/>\n    <float name=\"int_ior\" value=\"{}\"/>\n    <float name=\"ext_ior\" value=\"1\"/>\n</bsdf>\n",
+        model.eta()
+    ));
+    let mut py = String::new();
+    for n in &notes {
+        py.push_str(&format!("# {n}\n"));
+    }
+    py.push_str(&format!(
+        "{id} = {{\n    'type': 'roughdielectric',\n    'distribution': '{dist}',\n    'alpha': {alpha},\n    'int_ior': {},\n    'ext_ior': 1.0,\n}}\n",
+        model.eta()
+    ));
+    Ok(Export {
+        files: vec![
+            ExportFile {
+                extension: "xml",
+                text: xml,
+            },
+            ExportFile {
+                extension: "py",
+                text: py,
+            },
+        ],
+        warnings,
+        translation: Some(t),
+    })
+}

@@ -1,0 +1,184 @@
+//! OpenPBR: a transmissive `open_pbr_surface` (MaterialX) whose specular lobe is the
+//! specular-haze mixture of two GGX lobes.
+//!
+//! Conventions, from AcademySoftwareFoundation/OpenPBR, branch dev_1.2 (OpenPBR 1.2, unreleased
+//! at the time of writing; `specular_haze` came with pull requests 254 and 298):
+//! - index.html, "Microfacet model": GGX with `alpha = specular_roughness^2`, `G` from the
+//!   Smith model; "Specular haze": the base BSDF is `(1 - specular_haze) f_core + specular_haze
+//!   f_haze`, and "for the dielectric base, both core and haze BSDF lobes are given by
+//!   f_dielectric except with a different roughness value for the haze", `r_haze =
+//!   lerp(specular_roughness, 1, specular_haze_spread)` (default spread 0.3): by the
+//!   specification the haze applies to the transmitted light too.
+//! - reference/open_pbr_surface.mtlx (the reference MaterialX graph): the haze mixes only the
+//!   `dielectric_bsdf` reflection lobes (`scatter_mode` R); the transmission
+//!   (`dielectric_transmission`, `scatter_mode` T) keeps the core roughness alone. A renderer
+//!   that compiles this graph transmits without the haze.
+//! - `G`: height-correlated `1 / (1 + Lambda_i + Lambda_o)` ([`Smith::LambdaSum`]), as the
+//!   OpenPBR viewer's `ggx_G2` and MaterialX's `mx_ggx_smith_G2`.
+//!
+//! The mixture is fitted, per the specification (haze in both lobes), to the fitted BSDF over
+//! the sphere of directions; the haze is written only where it is meaningful, that is where it
+//! lowers the rmse by at least [`MEANINGFUL_GAIN`] relative to the best single GGX lobe
+//! (haze 0). The comment also gives the rmse of the written values as the reference graph
+//! renders them (haze in reflection only).
+
+use super::{AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet};
+use crate::target::{CoreMicrofacet, Mixture, Smith, TargetDielectric};
+use crate::translate::{self, Family, Reference, Translation, from_unit_coord, unit_coord};
+use crate::{ExportError, ExportModel};
+use stfit_core::ndf::Ggx;
+
+/// Relative rmse reduction below which the haze lobe is not written.
+pub const MEANINGFUL_GAIN: f64 = 0.05;
+
+/// The open_pbr_surface inputs stfit writes.
+pub const PARAMETERS: [&str; 7] = [
+    "base_weight",
+    "specular_weight",
+    "specular_roughness",
+    "specular_ior",
+    "specular_haze",
+    "specular_haze_spread",
+    "transmission_weight",
+];
+
+/// The haze mixture: (specular_roughness, specular_haze, specular_haze_spread).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Haze {
+    pub eta: f64,
+    pub start_roughness: f64,
+    /// Whether the haze lobe transmits too (the specification) or only reflects (the reference
+    /// MaterialX graph).
+    pub haze_transmits: bool,
+}
+
+fn lobe(alpha: f64, eta: f64) -> Result<TargetDielectric<CoreMicrofacet>, ExportError> {
+    let micro = CoreMicrofacet {
+        ndf: Ggx::new(alpha.max(1e-4))?.into(),
+        smith: Smith::LambdaSum,
+    };
+    TargetDielectric::new(micro, eta)
+}
+
+impl Family for Haze {
+    type Bsdf = Mixture<CoreMicrofacet>;
+
+    fn names(&self) -> Vec<&'static str> {
+        vec![
+            "specular_roughness",
+            "specular_haze",
+            "specular_haze_spread",
+        ]
+    }
+
+    fn build(&self, p: &[f64]) -> Result<Self::Bsdf, ExportError> {
+        let r = p[0];
+        let rh = r + (1.0 - r) * p[2];
+        Ok(Mixture {
+            a: lobe(r * r, self.eta)?,
+            b: lobe(rh * rh, self.eta)?,
+            weight: p[1],
+            haze_transmits: self.haze_transmits,
+        })
+    }
+
+    fn params_of(&self, x: &[f64]) -> Vec<f64> {
+        x.iter().map(|&v| from_unit_coord(v)).collect()
+    }
+
+    fn search_of(&self, p: &[f64]) -> Vec<f64> {
+        p.iter().map(|&v| unit_coord(v)).collect()
+    }
+
+    fn starts(&self) -> Vec<Vec<f64>> {
+        let r = self.start_roughness.clamp(0.01, 0.99);
+        vec![vec![r * 0.9, 0.2, 0.3], vec![r * 0.8, 0.4, 0.6]]
+    }
+}
+
+/// Writes the MaterialX document.
+pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Export, ExportError> {
+    let mut warnings = Vec::new();
+    let single = Microfacet {
+        ndf: Family1::Ggx,
+        eta: model.eta(),
+        smith: Smith::LambdaSum,
+        map: AlphaMap::RoughnessSquared,
+        name: "specular_roughness",
+        max_param: 1.0,
+    };
+    let one = translate_microfacet(&single, model, reference, &mut warnings)?;
+    let spec = Haze {
+        eta: model.eta(),
+        start_roughness: one.params[0].value,
+        haze_transmits: true,
+    };
+    let haze = translate::fit(&spec, model, reference)?;
+    let meaningful = haze.rmse < (1.0 - MEANINGFUL_GAIN) * one.rmse;
+    let t: Translation = if meaningful {
+        haze.clone()
+    } else {
+        one.clone()
+    };
+    let mut notes = provenance(
+        model,
+        Some(&t),
+        &[
+            "OpenPBR (1.2, dev_1.2 index.html): alpha = specular_roughness^2; haze lobe alpha = lerp(specular_roughness, 1, specular_haze_spread)^2, mixed with weight specular_haze into the whole dielectric BSDF",
+        ],
+    );
+    notes.push(format!(
+        "single GGX lobe: rmse {:.4}; two-lobe haze mixture: rmse {:.4} ({}).",
+        one.rmse,
+        haze.rmse,
+        if meaningful {
+            "haze written"
+        } else {
+            "gain below 5%: haze not meaningful, not written"
+        }
+    ));
+    if meaningful {
+        let graph = Haze {
+            haze_transmits: false,
+            ..spec
+        };
+        let p: Vec<f64> = haze.params.iter().map(|p| p.value).collect();
+        notes.push(format!(
+            "the reference MaterialX graph (reference/open_pbr_surface.mtlx) applies the haze to reflection only; rendered so, these values have rmse {:.4}.",
+            reference.rmse(&graph.build(&p)?)
+        ));
+    }
+    let mut text = String::from("<?xml version=\"1.0\"?>\n<!--\n");
+    for n in &notes {
+        text.push_str(&format!("  {}\n", n.replace("--", "- -")));
+    }
+    text.push_str("-->\n<materialx version=\"1.39\">\n");
+    text.push_str(&format!(
+        "  <open_pbr_surface name=\"{id}\" type=\"surfaceshader\">\n"
+    ));
+    let mut input = |n: &str, v: f64| {
+        text.push_str(&format!(
+            "    <input name=\"{n}\" type=\"float\" value=\"{v}\" />\n"
+        ))
+    };
+    input("base_weight", 0.0);
+    input("specular_weight", 1.0);
+    input("specular_roughness", t.params[0].value);
+    input("specular_ior", model.eta());
+    if meaningful {
+        input("specular_haze", haze.params[1].value);
+        input("specular_haze_spread", haze.params[2].value);
+    }
+    input("transmission_weight", 1.0);
+    text.push_str(&format!(
+        "  </open_pbr_surface>\n  <surfacematerial name=\"{id}_material\" type=\"material\">\n    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"{id}\" />\n  </surfacematerial>\n</materialx>\n"
+    ));
+    Ok(Export {
+        files: vec![ExportFile {
+            extension: "mtlx",
+            text,
+        }],
+        warnings,
+        translation: Some(t),
+    })
+}

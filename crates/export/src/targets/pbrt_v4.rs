@@ -1,0 +1,60 @@
+//! pbrt-v4: a `Material "dielectric"` line.
+//!
+//! Conventions from mmp/pbrt-v4: `DielectricMaterial::Create` (src/pbrt/materials.cpp) reads
+//! `eta` (default 1.5), `roughness` (default 0; `uroughness`/`vroughness` override it),
+//! `remaproughness` (default true) and `displacement`; with `remaproughness` true the
+//! Trowbridge-Reitz alpha is `TrowbridgeReitzDistribution::RoughnessToAlpha(roughness) =
+//! sqrt(roughness)` (src/pbrt/util/scattering.h), so stfit writes `roughness = alpha^2` and
+//! states `remaproughness true` explicitly. The BSDF is `DielectricBxDF` (src/pbrt/bxdfs.h):
+//! Walter et al. 2007 with GGX only and `G = 1 / (1 + Lambda(wo) + Lambda(wi))` for reflection
+//! and transmission ([`Smith::LambdaSum`]).
+
+use super::{AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet};
+use crate::target::Smith;
+use crate::translate::Reference;
+use crate::{ExportError, ExportModel};
+
+/// The dielectric parameters stfit writes, all defined by pbrt-v4.
+pub const PARAMETERS: [&str; 3] = ["eta", "roughness", "remaproughness"];
+
+/// The translation to pbrt-v4's Trowbridge-Reitz dielectric.
+pub fn family(eta: f64) -> Microfacet {
+    Microfacet {
+        ndf: Family1::Ggx,
+        eta,
+        smith: Smith::LambdaSum,
+        map: AlphaMap::SqrtRoughness,
+        name: "roughness",
+        max_param: 100.0,
+    }
+}
+
+/// Writes the material line with its comment.
+pub fn export(model: &ExportModel, reference: &Reference) -> Result<Export, ExportError> {
+    let mut warnings = Vec::new();
+    let t = translate_microfacet(&family(model.eta()), model, reference, &mut warnings)?;
+    let roughness = t.params[0].value;
+    let mut text = String::new();
+    for n in provenance(
+        model,
+        Some(&t),
+        &[&format!(
+            "pbrt-v4 dielectric: remaproughness true (its default), alpha = sqrt(roughness) = {}",
+            roughness.sqrt()
+        )],
+    ) {
+        text.push_str(&format!("# {n}\n"));
+    }
+    text.push_str(&format!(
+        "Material \"dielectric\" \"float eta\" [ {} ] \"float roughness\" [ {roughness} ] \"bool remaproughness\" [ true ]\n",
+        model.eta()
+    ));
+    Ok(Export {
+        files: vec![ExportFile {
+            extension: "pbrt",
+            text,
+        }],
+        warnings,
+        translation: Some(t),
+    })
+}

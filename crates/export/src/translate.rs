@@ -1,0 +1,320 @@
+//! Translation of a fitted model into a renderer's BSDF by fitting that BSDF to the fitted one
+//! over the sphere of directions ([`SphereSet`]), with stfit's own optimiser
+//! ([`stfit_fit::optimize::minimize`], Nelder-Mead), in the fit's units `sqrt(L)`.
+//!
+//! The translation error is the root-mean-square difference of `sqrt(L)` over the set
+//! (solid-angle weighted over outgoing directions, averaged over the incidence directions).
+//! The sensitivity of each target parameter `p` is read from the curvature of the mean square
+//! error `E` at the optimum, other parameters held: `E(p + d) = E0 + (s d)^2`, so `s` (in
+//! `sqrt(L)` per unit of `p`) is how fast the rmse grows away from the optimum, and
+//! `sqrt(0.21 E0) / s` is the change of `p` that raises the rmse by 10%.
+
+use rayon::prelude::*;
+use stfit_core::Vec3;
+use stfit_fit::Optimizer;
+use stfit_fit::conventions::pair_from_deg;
+use stfit_fit::optimize::minimize;
+
+use crate::directions::{SphereSet, l_of, l_per_bsdf};
+use crate::target::Scatter;
+use crate::{ExportError, ExportModel};
+
+/// The fitted model's `sqrt(L)` over a [`SphereSet`], computed once per export.
+#[derive(Debug, Clone)]
+pub struct Reference {
+    set: SphereSet,
+    eta: f64,
+    scale: f64,
+    /// `sqrt(L)` per incidence direction, per outgoing direction.
+    sqrt_l: Vec<Vec<f64>>,
+    /// Mean square of `sqrt(L)`: normalises the optimiser's cost to the order of 1.
+    energy: f64,
+}
+
+impl Reference {
+    /// The fitted model's values over `set`, by the library's forward model (for an all-orders
+    /// fit, with the fit's own walks and seed).
+    pub fn new(model: &ExportModel, set: SphereSet) -> Result<Self, ExportError> {
+        let eta = model.eta();
+        let pairs: Vec<(Vec3, Vec3)> = set
+            .incidences
+            .iter()
+            .flat_map(|&wi| set.outgoing.iter().map(move |&wo| (wi, wo)))
+            .collect();
+        let q = pairs
+            .iter()
+            .map(|&(wi, wo)| l_per_bsdf(wi, wo, eta))
+            .collect();
+        let values = model.forward_values(&pairs, q)?;
+        let sqrt_l = values
+            .chunks(set.outgoing.len())
+            .map(|row| {
+                row.iter()
+                    .map(|&v| (model.scale() * v).max(0.0).sqrt())
+                    .collect()
+            })
+            .collect();
+        let mut r = Self {
+            set,
+            eta,
+            scale: model.scale(),
+            sqrt_l,
+            energy: 1.0,
+        };
+        r.energy = r.mean_square(|_, _| 0.0).max(f64::MIN_POSITIVE);
+        Ok(r)
+    }
+
+    /// The fitted model's values over the standard set.
+    pub fn standard(model: &ExportModel) -> Result<Self, ExportError> {
+        Self::new(model, SphereSet::standard())
+    }
+
+    /// Mean square difference between `sqrt(L)` of `f_cos` and the reference.
+    fn mean_square(&self, f_cos: impl Fn(Vec3, Vec3) -> f64 + Sync) -> f64 {
+        let total_w: f64 = self.set.weights.iter().sum();
+        let per_incidence: Vec<f64> = self
+            .set
+            .incidences
+            .par_iter()
+            .zip(&self.sqrt_l)
+            .map(|(&wi, refs)| {
+                let mut s = 0.0;
+                for ((&wo, &w), &r) in self.set.outgoing.iter().zip(&self.set.weights).zip(refs) {
+                    let v = l_of(f_cos(wi, wo), wi, wo, self.eta, self.scale)
+                        .max(0.0)
+                        .sqrt();
+                    s += w * (v - r) * (v - r);
+                }
+                s / total_w
+            })
+            .collect();
+        per_incidence.iter().sum::<f64>() / per_incidence.len() as f64
+    }
+
+    /// Root-mean-square difference of `sqrt(L)` between `target` and the fitted model.
+    pub fn rmse(&self, target: &impl Scatter) -> f64 {
+        self.mean_square(|wi, wo| target.f_cos(wi, wo)).sqrt()
+    }
+}
+
+/// A family of target BSDFs with parameters in the renderer's own units.
+pub trait Family {
+    type Bsdf: Scatter;
+    /// Parameter names as the renderer spells them.
+    fn names(&self) -> Vec<&'static str>;
+    /// The BSDF for parameters `p` (renderer units), or an error outside their range.
+    fn build(&self, p: &[f64]) -> Result<Self::Bsdf, ExportError>;
+    /// Renderer parameters of unbounded search coordinates (each within its valid range).
+    fn params_of(&self, x: &[f64]) -> Vec<f64>;
+    /// Search coordinates of renderer parameters.
+    fn search_of(&self, p: &[f64]) -> Vec<f64>;
+    /// Starting points of the search, in renderer units.
+    fn starts(&self) -> Vec<Vec<f64>>;
+}
+
+/// One translated parameter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parameter {
+    pub name: &'static str,
+    pub value: f64,
+    /// `s`: growth of the rmse (`sqrt(L)`) per unit change of the parameter at the optimum.
+    pub rmse_per_unit: f64,
+    /// Change of the parameter that raises the rmse by 10% (`None` where the rmse is 0 or the
+    /// curvature vanishes).
+    pub change_for_10pct: Option<f64>,
+}
+
+/// A translation: target parameters, their sensitivity and the error.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Translation {
+    pub params: Vec<Parameter>,
+    /// rmse of `sqrt(L)` over the sphere of directions (fit units).
+    pub rmse: f64,
+    /// rmse of `sqrt(L)` over the measurement grid of the data (light from air at 0, 30, 60,
+    /// 80 degrees, transmitted 106 to 254 degrees in steps of 2, in the plane of incidence):
+    /// the translation's error where the fit was made, comparable with the fit's own rmse.
+    pub rmse_measured_grid: f64,
+    /// True when the parameters are an exact mapping of the fitted NDF (no optimisation).
+    pub exact_ndf: bool,
+    /// Optimiser iterations (0 for an exact mapping).
+    pub iterations: u64,
+}
+
+impl Translation {
+    /// The value of parameter `name`.
+    pub fn value(&self, name: &str) -> Option<f64> {
+        self.params.iter().find(|p| p.name == name).map(|p| p.value)
+    }
+
+    /// A one-line summary for comments.
+    pub fn summary(&self) -> String {
+        let how = if self.exact_ndf {
+            "NDF mapped exactly; error from the renderer's masking term"
+        } else {
+            "fitted over the sphere of directions (Nelder-Mead)"
+        };
+        format!(
+            "{how}; rmse sqrt(L): {:.4} over the sphere of directions, {:.4} over the measurement grid",
+            self.rmse, self.rmse_measured_grid
+        )
+    }
+
+    /// One line per parameter: value, rmse growth per unit and the change for +10% rmse.
+    pub fn sensitivity_lines(&self) -> Vec<String> {
+        self.params
+            .iter()
+            .map(|p| {
+                let ten = p
+                    .change_for_10pct
+                    .map_or("-".to_string(), |d| format!("{d:.3e}"));
+                format!(
+                    "{} = {:.6}: rmse grows {:.3e} sqrt(L) per unit; change for +10% rmse {}",
+                    p.name, p.value, p.rmse_per_unit, ten
+                )
+            })
+            .collect()
+    }
+}
+
+/// The measurement grid of the data (see [`Translation::rmse_measured_grid`]).
+pub fn measured_grid() -> Vec<(f64, f64)> {
+    let mut v = Vec::new();
+    for ti in [0.0, 30.0, 60.0, 80.0] {
+        for k in 0..75 {
+            v.push((ti, 106.0 + 2.0 * k as f64));
+        }
+    }
+    v
+}
+
+/// rmse of `sqrt(L)` between `target` and the fitted model over `grid` (`(theta_i,
+/// theta_o)` in degrees, data convention), the fitted model by [`stfit_fit::Model::predict`].
+pub fn grid_rmse(
+    model: &ExportModel,
+    target: &impl Scatter,
+    grid: &[(f64, f64)],
+) -> Result<f64, ExportError> {
+    let fitted = model.model.predict(grid)?;
+    let s: f64 = grid
+        .iter()
+        .zip(&fitted)
+        .map(|(&(ti, to), &l)| {
+            let (wi, wo) = pair_from_deg(ti, to);
+            let t = l_of(target.f_cos(wi, wo), wi, wo, model.eta(), model.scale());
+            (l.max(0.0).sqrt() - t.max(0.0).sqrt()).powi(2)
+        })
+        .sum();
+    Ok((s / grid.len().max(1) as f64).sqrt())
+}
+
+/// Sensitivity of each parameter at `p` (see the module docs).
+fn sensitivity<F: Family>(
+    family: &F,
+    reference: &Reference,
+    p: &[f64],
+    e0: f64,
+) -> Result<Vec<Parameter>, ExportError> {
+    let names = family.names();
+    let mut out = Vec::with_capacity(p.len());
+    for k in 0..p.len() {
+        let h = 1e-3 * p[k].abs().max(1e-2);
+        let mut e = [0.0; 2];
+        for (j, sign) in [1.0, -1.0].into_iter().enumerate() {
+            let mut q = p.to_vec();
+            q[k] += sign * h;
+            // Stay inside the renderer's range: a one-sided difference at a bound.
+            let q = family.params_of(&family.search_of(&q));
+            e[j] = reference.rmse(&family.build(&q)?).powi(2);
+        }
+        let curv = ((e[0] + e[1] - 2.0 * e0) / (h * h)).max(0.0);
+        let s = (0.5 * curv).sqrt();
+        out.push(Parameter {
+            name: names[k],
+            value: p[k],
+            rmse_per_unit: s,
+            change_for_10pct: (e0 > 0.0 && s > 0.0).then(|| (0.21 * e0).sqrt() / s),
+        });
+    }
+    Ok(out)
+}
+
+/// Evaluates fixed target parameters (an exact NDF mapping): error and sensitivity.
+pub fn evaluate<F: Family>(
+    family: &F,
+    model: &ExportModel,
+    reference: &Reference,
+    p: &[f64],
+) -> Result<Translation, ExportError> {
+    let bsdf = family.build(p)?;
+    let rmse = reference.rmse(&bsdf);
+    Ok(Translation {
+        params: sensitivity(family, reference, p, rmse * rmse)?,
+        rmse,
+        rmse_measured_grid: grid_rmse(model, &bsdf, &measured_grid())?,
+        exact_ndf: true,
+        iterations: 0,
+    })
+}
+
+/// Fits the family to the fitted model over the sphere of directions.
+pub fn fit<F: Family>(
+    family: &F,
+    model: &ExportModel,
+    reference: &Reference,
+) -> Result<Translation, ExportError> {
+    let cost = |x: &[f64]| {
+        let p = family.params_of(x);
+        family.build(&p).map_or(f64::INFINITY, |b| {
+            reference.rmse(&b).powi(2) / reference.energy
+        })
+    };
+    let mut best: Option<stfit_fit::optimize::Minimum> = None;
+    let mut iterations = 0;
+    let mut last_err = None;
+    for start in family.starts() {
+        match minimize(cost, &family.search_of(&start), Optimizer::NelderMead) {
+            Ok(m) => {
+                iterations += m.iterations;
+                if best.as_ref().is_none_or(|b| m.cost < b.cost) {
+                    best = Some(m);
+                }
+            }
+            Err(e) => last_err = Some(e.to_string()),
+        }
+    }
+    let best = best.ok_or_else(|| {
+        ExportError::Optimizer(last_err.unwrap_or_else(|| "no starting point".into()))
+    })?;
+    let p = family.params_of(&best.x);
+    let bsdf = family.build(&p)?;
+    let rmse = reference.rmse(&bsdf);
+    Ok(Translation {
+        params: sensitivity(family, reference, &p, rmse * rmse)?,
+        rmse,
+        rmse_measured_grid: grid_rmse(model, &bsdf, &measured_grid())?,
+        exact_ndf: false,
+        iterations,
+    })
+}
+
+/// `ln` mapping of a positive parameter bounded to `[lo, hi]`.
+pub fn log_coord(p: f64, lo: f64, hi: f64) -> f64 {
+    p.clamp(lo, hi).ln()
+}
+
+/// Inverse of [`log_coord`].
+pub fn from_log_coord(x: f64, lo: f64, hi: f64) -> f64 {
+    x.clamp(lo.ln(), hi.ln()).exp()
+}
+
+/// Logistic mapping of a parameter in `(0, 1)`.
+pub fn unit_coord(p: f64) -> f64 {
+    let p = p.clamp(1e-9, 1.0 - 1e-9);
+    (p / (1.0 - p)).ln()
+}
+
+/// Inverse of [`unit_coord`].
+pub fn from_unit_coord(x: f64) -> f64 {
+    1.0 / (1.0 + (-x).exp())
+}

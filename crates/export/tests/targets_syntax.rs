@@ -1,0 +1,348 @@
+//! The exported scene snippets parse as their renderers' syntax and name only parameters those
+//! renderers define; GGX fits round-trip exactly to GGX targets.
+
+use std::process::Command;
+
+use stfit_export::ExportModel;
+use stfit_export::targets::{self, Target};
+use stfit_fit::{Gamma, Model, ModelKind};
+use stfit_test_support::{CaseDir, under_ci};
+
+/// Parameters of Mitsuba 3's `roughdielectric`, from mitsuba-renderer/mitsuba3,
+/// src/bsdfs/roughdielectric.cpp (its `pluginparameters` and `Properties` reads).
+const MITSUBA_ROUGHDIELECTRIC: [&str; 9] = [
+    "int_ior",
+    "ext_ior",
+    "specular_reflectance",
+    "specular_transmittance",
+    "distribution",
+    "alpha",
+    "alpha_u",
+    "alpha_v",
+    "sample_visible",
+];
+
+/// Parameters of pbrt-v4's `dielectric` material, from mmp/pbrt-v4, src/pbrt/materials.cpp
+/// (`DielectricMaterial::Create`; `normalmap` is read for every material by the scene loader).
+const PBRT_DIELECTRIC: [&str; 7] = [
+    "eta",
+    "roughness",
+    "uroughness",
+    "vroughness",
+    "remaproughness",
+    "displacement",
+    "normalmap",
+];
+
+/// Parameters of V-Ray's `BRDFVRayMtl`, from ChaosGroup/vray_for_blender_addon,
+/// python_exporter/plugins_desc/BRDF/BRDFVRayMtl.json (the subset a glass uses), and of
+/// `MtlSingleBRDF` (its `brdf`).
+const VRAY_BRDFVRAYMTL: [&str; 20] = [
+    "brdf_type",
+    "diffuse",
+    "reflect",
+    "reflect_glossiness",
+    "hilight_glossiness",
+    "hilight_glossiness_lock",
+    "gtr_gamma",
+    "fresnel",
+    "fresnel_ior",
+    "fresnel_ior_lock",
+    "metalness",
+    "gtr_energy_compensation",
+    "refract",
+    "refract_ior",
+    "refract_glossiness",
+    "refract_thin_walled",
+    "option_use_roughness",
+    "option_double_sided",
+    "option_glossy_fresnel",
+    "roughness",
+];
+
+fn model(kind: ModelKind, alpha: f64, gamma: Gamma) -> ExportModel {
+    ExportModel::new(Model::single(kind, alpha, gamma, 0.98), "test fit").unwrap()
+}
+
+fn student_t() -> ExportModel {
+    model(ModelKind::StudentT, 0.3, Gamma::Free(2.6))
+}
+
+/// The Mitsuba 3 export is one well-formed XML `bsdf` element of type roughdielectric whose
+/// children name only roughdielectric parameters, with the types Mitsuba expects.
+#[test]
+fn mitsuba3_xml_parses_and_names_only_roughdielectric_parameters() {
+    let e = targets::export(Target::Mitsuba3, &student_t(), "st").unwrap();
+    let xml = &e.files.iter().find(|f| f.extension == "xml").unwrap().text;
+    let doc = roxmltree::Document::parse(xml).expect("well-formed XML");
+    let bsdf = doc.root_element();
+    assert_eq!(bsdf.tag_name().name(), "bsdf");
+    assert_eq!(bsdf.attribute("type"), Some("roughdielectric"));
+    let mut names = Vec::new();
+    for c in bsdf.children().filter(|n| n.is_element()) {
+        let name = c.attribute("name").unwrap();
+        assert!(
+            MITSUBA_ROUGHDIELECTRIC.contains(&name),
+            "unknown parameter {name}"
+        );
+        let value = c.attribute("value").unwrap();
+        match c.tag_name().name() {
+            "float" => assert!(value.parse::<f64>().unwrap().is_finite()),
+            "string" => assert!(["ggx", "beckmann"].contains(&value), "{value}"),
+            t => panic!("unexpected element {t}"),
+        }
+        names.push(name);
+    }
+    assert_eq!(names, ["distribution", "alpha", "int_ior", "ext_ior"]);
+    // The Python dict names the same parameters.
+    let py = &e.files.iter().find(|f| f.extension == "py").unwrap().text;
+    for n in &names {
+        assert!(py.contains(&format!("'{n}':")), "{n} missing from the dict");
+    }
+}
+
+/// A token of pbrt's scene syntax.
+#[derive(Debug, PartialEq)]
+enum Tok {
+    Ident(String),
+    Str(String),
+    Open,
+    Close,
+    Num(f64),
+    Bool(bool),
+}
+
+/// pbrt's lexical rules: `#` comments to the end of the line, quoted strings, brackets, numbers,
+/// bare identifiers (directives) and the bare words `true`/`false` in arrays.
+fn lex(text: &str) -> Vec<Tok> {
+    let mut toks = Vec::new();
+    for line in text.lines() {
+        let line = line.split('#').next().unwrap();
+        let mut rest = line.trim_start();
+        while !rest.is_empty() {
+            let (tok, len) = if let Some(r) = rest.strip_prefix('"') {
+                let end = r.find('"').expect("unterminated string");
+                (Tok::Str(r[..end].to_string()), end + 2)
+            } else if rest.starts_with('[') {
+                (Tok::Open, 1)
+            } else if rest.starts_with(']') {
+                (Tok::Close, 1)
+            } else {
+                let end = rest.find(char::is_whitespace).unwrap_or(rest.len());
+                let w = &rest[..end];
+                let t = match w {
+                    "true" => Tok::Bool(true),
+                    "false" => Tok::Bool(false),
+                    _ => w
+                        .parse()
+                        .map_or_else(|_| Tok::Ident(w.to_string()), Tok::Num),
+                };
+                (t, end)
+            };
+            toks.push(tok);
+            rest = rest[len..].trim_start();
+        }
+    }
+    toks
+}
+
+/// The pbrt-v4 export is one `Material "dielectric"` directive followed by typed parameters
+/// (`"type name" [ values ]`) that pbrt-v4's dielectric defines.
+#[test]
+fn pbrt_v4_line_parses_and_names_only_dielectric_parameters() {
+    let e = targets::export(Target::PbrtV4, &student_t(), "st").unwrap();
+    let toks = lex(&e.files[0].text);
+    assert_eq!(toks[0], Tok::Ident("Material".into()));
+    assert_eq!(toks[1], Tok::Str("dielectric".into()));
+    let mut k = 2;
+    let mut names = Vec::new();
+    while k < toks.len() {
+        let Tok::Str(decl) = &toks[k] else {
+            panic!(
+                "expected a parameter declaration at token {k}: {:?}",
+                toks[k]
+            )
+        };
+        let mut parts = decl.split_whitespace();
+        let (ty, name) = (parts.next().unwrap(), parts.next().unwrap());
+        assert!(PBRT_DIELECTRIC.contains(&name), "unknown parameter {name}");
+        assert_eq!(toks[k + 1], Tok::Open);
+        match (ty, &toks[k + 2]) {
+            ("float", Tok::Num(v)) => assert!(v.is_finite() && *v >= 0.0),
+            ("bool", Tok::Bool(_)) => {}
+            other => panic!("bad value for {name}: {other:?}"),
+        }
+        assert_eq!(toks[k + 3], Tok::Close);
+        names.push(name.to_string());
+        k += 4;
+    }
+    assert_eq!(names, ["eta", "roughness", "remaproughness"]);
+}
+
+/// The other XML targets are well-formed too.
+#[test]
+fn appleseed_and_openpbr_exports_are_well_formed_xml() {
+    for t in [Target::Appleseed, Target::OpenPbr] {
+        let e = targets::export(t, &student_t(), "st").unwrap();
+        roxmltree::Document::parse(&e.files[0].text)
+            .unwrap_or_else(|err| panic!("{}: {err}", t.name()));
+    }
+}
+
+/// A GGX fit exported to a GGX target keeps alpha to 1e-6 in each target's own convention:
+/// Mitsuba's alpha, pbrt-v4's roughness = alpha^2 (alpha = sqrt(roughness)), Cycles' and
+/// OpenPBR's roughness = sqrt(alpha) (alpha = roughness^2), appleseed's roughness =
+/// sqrt(alpha).
+#[test]
+fn ggx_fit_round_trips_to_ggx_targets() {
+    let alpha = 0.36005;
+    let m = model(ModelKind::Ggx, alpha, Gamma::NotApplicable);
+    let value = |t: Target| {
+        targets::export(t, &m, "g")
+            .unwrap()
+            .translation
+            .unwrap()
+            .params[0]
+            .value
+    };
+    assert!((value(Target::Mitsuba3) - alpha).abs() < 1e-6);
+    assert!((value(Target::PbrtV4).sqrt() - alpha).abs() < 1e-6);
+    assert!((value(Target::Cycles).powi(2) - alpha).abs() < 1e-6);
+    assert!((value(Target::Appleseed).powi(2) - alpha).abs() < 1e-6);
+    assert!((value(Target::OpenPbr).powi(2) - alpha).abs() < 1e-6);
+    // V-Ray: alpha = (1 - glossiness)^2 at gtr_gamma 2.
+    let v = targets::export(Target::VRay, &m, "g")
+        .unwrap()
+        .translation
+        .unwrap();
+    assert!(((1.0 - v.params[0].value).powi(2) - alpha).abs() < 1e-6);
+    assert_eq!(v.value("gtr_gamma"), Some(2.0));
+    assert!(v.exact_ndf);
+    // Mitsuba's GGX with separable exact G1 is the fitted model itself: no translation error.
+    let t = targets::export(Target::Mitsuba3, &m, "g")
+        .unwrap()
+        .translation
+        .unwrap();
+    assert!(t.rmse < 1e-12 && t.exact_ndf, "{t:?}");
+}
+
+/// appleseed maps (alpha, gamma) exactly inside its range and clamps gamma outside it with a
+/// warning.
+#[test]
+fn appleseed_maps_student_t_exactly_and_clamps_gamma() {
+    use stfit_export::targets::appleseed::gamma_of_falloff;
+    let e = targets::export(Target::Appleseed, &student_t(), "st").unwrap();
+    let t = e.translation.unwrap();
+    assert!((t.value("roughness").unwrap().powi(2) - 0.3).abs() < 1e-9);
+    assert!((gamma_of_falloff(t.value("highlight_falloff").unwrap()) - 2.6).abs() < 1e-9);
+    assert!(e.warnings.is_empty(), "{:?}", e.warnings);
+    let narrow = model(ModelKind::StudentT, 0.3, Gamma::Free(1.505));
+    let e = targets::export(Target::Appleseed, &narrow, "st").unwrap();
+    assert!(
+        e.warnings.iter().any(|w| w.contains("clamped")),
+        "{:?}",
+        e.warnings
+    );
+    assert_eq!(e.translation.unwrap().value("highlight_falloff"), Some(0.0));
+}
+
+/// A `.vrscene` block: plugin type, name and `key=value` parameters.
+type VrsceneBlock = (String, String, Vec<(String, String)>);
+
+/// A `.vrscene` fragment: `Plugin name { key=value; ... }` blocks with `//` comments.
+fn vrscene_blocks(text: &str) -> Vec<VrsceneBlock> {
+    let body: String = text
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let mut blocks = Vec::new();
+    let mut rest = body.as_str();
+    while let Some(open) = rest.find('{') {
+        let head: Vec<&str> = rest[..open].split_whitespace().collect();
+        assert_eq!(head.len(), 2, "a block is `Type name {{`: {head:?}");
+        let close = rest[open..].find('}').expect("a closing brace") + open;
+        let params = rest[open + 1..close]
+            .split(';')
+            .map(str::trim)
+            .filter(|p| !p.is_empty())
+            .map(|p| {
+                let (k, v) = p.split_once('=').expect("key=value");
+                (k.trim().to_string(), v.trim().to_string())
+            })
+            .collect();
+        blocks.push((head[0].to_string(), head[1].to_string(), params));
+        rest = &rest[close + 1..];
+    }
+    assert!(rest.trim().is_empty(), "trailing text: {rest}");
+    blocks
+}
+
+/// The V-Ray export is a BRDFVRayMtl naming only parameters V-Ray defines, with numbers,
+/// colours and booleans where V-Ray takes them, and a MtlSingleBRDF using it.
+#[test]
+fn vray_vrscene_parses_and_names_only_brdfvraymtl_parameters() {
+    let e = targets::export(Target::VRay, &student_t(), "st").unwrap();
+    let blocks = vrscene_blocks(&e.files[0].text);
+    assert_eq!(blocks.len(), 2);
+    let (ty, name, params) = &blocks[0];
+    assert_eq!((ty.as_str(), name.as_str()), ("BRDFVRayMtl", "st"));
+    for (k, v) in params {
+        assert!(
+            VRAY_BRDFVRAYMTL.contains(&k.as_str()),
+            "unknown parameter {k}"
+        );
+        if v.starts_with("AColor(") {
+            let inner = v.trim_start_matches("AColor(").trim_end_matches(')');
+            assert_eq!(
+                inner
+                    .split(',')
+                    .filter_map(|c| c.trim().parse::<f64>().ok())
+                    .count(),
+                4
+            );
+        } else {
+            assert!(v.parse::<f64>().unwrap().is_finite(), "{k}={v}");
+        }
+    }
+    let get = |k: &str| {
+        params
+            .iter()
+            .find(|(p, _)| p == k)
+            .map(|(_, v)| v.parse::<f64>().unwrap())
+    };
+    assert_eq!(get("brdf_type"), Some(4.0));
+    let g = get("reflect_glossiness").unwrap();
+    assert!((0.0..1.0).contains(&g) && get("refract_glossiness") == Some(g));
+    assert!((0.1..=10.0).contains(&get("gtr_gamma").unwrap()));
+    assert_eq!(blocks[1].0, "MtlSingleBRDF");
+    assert_eq!(blocks[1].2, vec![("brdf".to_string(), "st".to_string())]);
+}
+
+/// The Python outputs (Mitsuba 3's dict, Cycles' script) are valid Python: Python 3's own
+/// parser reads them. Without python3 the test says it did not run (a failure under CI=true).
+#[test]
+fn python_exports_parse_as_python() {
+    if Command::new("python3").arg("--version").output().is_err() {
+        assert!(!under_ci(), "CI=true but python3 is missing");
+        eprintln!("python_exports_parse_as_python: did not run for want of python3");
+        return;
+    }
+    let dir = CaseDir::new("python-exports");
+    for t in [Target::Mitsuba3, Target::Cycles] {
+        let e = targets::export(t, &student_t(), "st").unwrap();
+        let py = &e.files.iter().find(|f| f.extension == "py").unwrap().text;
+        let path = dir.file(&format!("{}.py", t.name()), py);
+        let out = Command::new("python3")
+            .args(["-c", "import ast, sys; ast.parse(open(sys.argv[1]).read())"])
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            t.name(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}

@@ -1,0 +1,202 @@
+//! `stfit export FITS.json --to TARGET`: write each stored fit as a renderer material or a
+//! Radiance/WINDOW BSDF file. The fits carry their models (fits-format.md); the work is done by
+//! the stfit-export crate.
+
+use std::path::PathBuf;
+
+use clap::{Args as ClapArgs, ValueEnum};
+use stfit_export::radiance::{DEFAULT_WALKS_PER_PATCH, LayerKind, QuadratureRule, RadianceOptions};
+use stfit_export::{Selection, Target, export_fit, file_name, fit_identifier, join};
+use stfit_fit::{FitsFile, ModelKind};
+
+use super::{CmdResult, Retired, failed, print_stdout, usage, write_file};
+
+/// Arguments of `stfit export`.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct Args {
+    /// Stored fits: the JSON of `stfit DATA --out FILE` (fits-format.md).
+    #[arg(value_name = "FITS.json")]
+    pub fits: PathBuf,
+    /// What to write.
+    #[arg(long, value_enum)]
+    pub to: TargetArg,
+    /// Export only the fits of the sample called NAME.
+    #[arg(long, value_name = "NAME")]
+    pub sample: Option<String>,
+    /// Export only the fits of this model (student-t: gamma fitted; student-t-fixed: gamma
+    /// held fixed).
+    #[arg(long, value_enum)]
+    pub model: Option<ModelArg>,
+    /// Output file (several fits go into one file, except for radiance), or an existing folder
+    /// (one file per fit, named SAMPLE_MODEL-TARGET.EXT). Default: stdout.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// radiance: a pane (the rough face over a smooth back face, with all inter-reflections)
+    /// or the single rough interface.
+    #[arg(long, value_enum, default_value_t = LayerArg::Pane)]
+    pub layer: LayerArg,
+    /// radiance, pane: fraction of the light absorbed in one crossing of the glass at normal
+    /// incidence (0: lossless).
+    #[arg(
+        long,
+        value_name = "A",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    pub absorption: f64,
+    /// radiance: random walks per Klems patch where the matrices need walks (the pane; the
+    /// orders >= 2 of an all-orders interface). A single-scattering interface is integrated
+    /// by deterministic quadrature.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_WALKS_PER_PATCH)]
+    pub walks: u64,
+    /// radiance: seed of the walks.
+    #[arg(long, value_name = "S", default_value_t = 1)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub retired: Retired,
+}
+
+/// `--to`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TargetArg {
+    /// Mitsuba 3 roughdielectric (XML element and Python dict).
+    Mitsuba3,
+    /// pbrt-v4 Material "dielectric" line.
+    #[value(name = "pbrt-v4")]
+    PbrtV4,
+    /// Blender Cycles Glass and Principled BSDF (Python for Blender).
+    Cycles,
+    /// appleseed glass_bsdf with its STD (Student-T) microfacets.
+    Appleseed,
+    /// OpenPBR open_pbr_surface (MaterialX), specular haze where meaningful.
+    Openpbr,
+    /// V-Ray BRDFVRayMtl with its GTR microfacets (.vrscene).
+    Vray,
+    /// LBNL WINDOW BSDF XML, Klems full basis (Radiance, WINDOW).
+    Radiance,
+}
+
+impl From<TargetArg> for Target {
+    fn from(t: TargetArg) -> Self {
+        match t {
+            TargetArg::Mitsuba3 => Self::Mitsuba3,
+            TargetArg::PbrtV4 => Self::PbrtV4,
+            TargetArg::Cycles => Self::Cycles,
+            TargetArg::Appleseed => Self::Appleseed,
+            TargetArg::Openpbr => Self::OpenPbr,
+            TargetArg::Vray => Self::VRay,
+            TargetArg::Radiance => Self::Radiance,
+        }
+    }
+}
+
+/// `--model`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ModelArg {
+    Beckmann,
+    Ggx,
+    /// Student-T with gamma fitted.
+    StudentT,
+    /// Student-T with gamma held fixed.
+    StudentTFixed,
+}
+
+/// `--layer`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum LayerArg {
+    Pane,
+    Interface,
+}
+
+/// Runs `stfit export`.
+pub fn run(args: &Args) -> CmdResult {
+    args.retired.check()?;
+    let target = Target::from(args.to);
+    let radiance = RadianceOptions {
+        layer: match args.layer {
+            LayerArg::Pane => LayerKind::Pane,
+            LayerArg::Interface => LayerKind::Interface,
+        },
+        absorption: args.absorption,
+        walks_per_patch: args.walks,
+        seed: args.seed,
+        rule: QuadratureRule::DEFAULT,
+    };
+    radiance.check().map_err(usage)?;
+    if target != Target::Radiance && radiance != RadianceOptions::default() {
+        return Err(usage(
+            "--layer, --absorption, --walks and --seed apply to --to radiance only",
+        ));
+    }
+    let selection = Selection {
+        sample: args.sample.clone(),
+        kind: args.model.map(|m| match m {
+            ModelArg::Beckmann => ModelKind::Beckmann,
+            ModelArg::Ggx => ModelKind::Ggx,
+            ModelArg::StudentT | ModelArg::StudentTFixed => ModelKind::StudentT,
+        }),
+        gamma_fixed: args.model.and_then(|m| match m {
+            ModelArg::StudentT => Some(false),
+            ModelArg::StudentTFixed => Some(true),
+            _ => None,
+        }),
+    };
+    let file = FitsFile::read(&args.fits).map_err(failed)?;
+    let fits: Vec<_> = file.fits.iter().filter(|f| selection.matches(f)).collect();
+    if fits.is_empty() {
+        return Err(failed(format!(
+            "{}: no fit matches the selection",
+            args.fits.display()
+        )));
+    }
+    let folder = args.out.as_deref().filter(|p| p.is_dir());
+    if target == Target::Radiance && fits.len() > 1 && folder.is_none() {
+        return Err(usage(
+            "radiance writes one BSDF file per fit: select one fit (--sample, --model) or give --out an existing folder",
+        ));
+    }
+    let mut exports = Vec::with_capacity(fits.len());
+    for fit in fits {
+        let id = fit_identifier(fit);
+        let export = export_fit(fit, target, &radiance)
+            .map_err(|e| failed(format!("{}: {}: {e}", args.fits.display(), fit.label())))?;
+        for w in &export.warnings {
+            eprintln!("warning: {id}: {w}");
+        }
+        if let Some(t) = &export.translation {
+            eprintln!("{id}: {}", t.summary());
+        }
+        if let Some(dir) = folder {
+            for f in &export.files {
+                let path = dir.join(file_name(&id, target, f.extension));
+                write_file(&path, &f.text)?;
+                println!("{}", path.display());
+            }
+        }
+        exports.push(export);
+    }
+    if folder.is_some() {
+        return Ok(());
+    }
+    let joined = join(&exports);
+    match &args.out {
+        Some(out) => {
+            for (k, f) in joined.iter().enumerate() {
+                let path = if k == 0 {
+                    out.clone()
+                } else {
+                    out.with_extension(f.extension)
+                };
+                write_file(&path, &f.text)?;
+            }
+            Ok(())
+        }
+        None => print_stdout(
+            &joined
+                .iter()
+                .map(|f| f.text.as_str())
+                .collect::<Vec<_>>()
+                .join("\n"),
+        ),
+    }
+}

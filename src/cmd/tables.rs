@@ -1,0 +1,368 @@
+//! `stfit tables`: directional-albedo (energy-compensation) tables, and `stfit tables merge`.
+//! Argument parsing and printing only; the work is in `stfit-tables`.
+
+use super::{CmdError, CmdResult, print_stdout};
+use clap::{Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use stfit_core::walk::ScatteringOrders;
+use stfit_tables::compute::{self, Table, work_units};
+use stfit_tables::format::{Format, shard};
+use stfit_tables::grid::Axis;
+use stfit_tables::single::{Quadrature, TableMasking};
+use stfit_tables::{Family, Shard, Side, SpecError, Surface, TableSpec};
+
+/// Arguments of `stfit tables`.
+#[derive(Debug, clap::Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct Args {
+    #[command(flatten)]
+    pub table: TableArgs,
+    #[command(subcommand)]
+    pub command: Option<TablesCommand>,
+}
+
+/// Subcommands of `stfit tables`.
+#[derive(Debug, Subcommand)]
+pub enum TablesCommand {
+    /// Join the shard files of `--shard K/N` runs into the file one run writes.
+    Merge(MergeArgs),
+}
+
+/// The table to compute (see tables-format.md for the axes and the files).
+#[derive(Debug, clap::Args)]
+pub struct TableArgs {
+    /// NDF family.
+    #[arg(long, value_enum, required = true)]
+    pub ndf: Option<NdfArg>,
+    /// Roughness axis: START:END:COUNT, MAP:START:END:COUNT (MAP lin, log, sq: alpha = x^2)
+    /// or a list v1,v2,...; alpha in [1e-8, 4].
+    #[arg(long)]
+    pub alpha_grid: Option<Axis>,
+    /// Student-T shape axis (student-t only), as --alpha-grid; gamma in [1.6, 40].
+    #[arg(long)]
+    pub gamma_grid: Option<Axis>,
+    /// Cosine-of-incidence axis, as --alpha-grid; mu in [1e-4, 1].
+    #[arg(long)]
+    pub mu_grid: Option<Axis>,
+    /// Relative index n_inside / n_outside (dielectric only), as --alpha-grid (MAP may also be
+    /// cycles-ior: eta = (1 + x^2) / (1 - x^2)); eta in (1, 100].
+    #[arg(long)]
+    pub eta_grid: Option<Axis>,
+    /// Side of the light: outside (from the air), inside (from the glass), or both (the
+    /// default for dielectrics).
+    #[arg(long, value_enum)]
+    pub side: Option<SideArg>,
+    /// Facet material: dielectric, or conductor (Fresnel with --n and --k, else mirror facets
+    /// that reflect everything).
+    #[arg(long, value_enum, default_value_t = SurfaceArg::Dielectric)]
+    pub surface: SurfaceArg,
+    /// Real part of the conductor's index relative to the outside medium (with --k).
+    #[arg(long, allow_negative_numbers = true)]
+    pub n: Option<f64>,
+    /// Imaginary part of the conductor's index (with --n).
+    #[arg(long, allow_negative_numbers = true)]
+    pub k: Option<f64>,
+    /// Scattering orders: single (E_ss by quadrature), multiple (also orders >= 2 by random
+    /// walks) or all (also E_all = E_ss with height-correlated masking + orders >= 2).
+    #[arg(long, value_enum, default_value_t = OrdersArg::Single)]
+    pub orders: OrdersArg,
+    /// Masking of E_ss: correlated (Beta function for transmission), reflection-form
+    /// (1 / (1 + Lambda_i + Lambda_o) for transmission too, as Cycles) or separable.
+    #[arg(long, value_enum, default_value_t = MaskingArg::Correlated)]
+    pub masking: MaskingArg,
+    /// Use exactly the nodes of Blender Cycles' tables instead of the grid options: 16^3
+    /// ggx_glass_E / ggx_glass_inv_E nodes for a dielectric, 32^2 ggx_E nodes otherwise.
+    #[arg(long, value_enum)]
+    pub layout: Option<LayoutArg>,
+    /// Output format (default: from the extension of --out: .npy, .h/.c for C, else CSV).
+    #[arg(long, value_enum)]
+    pub format: Option<FormatArg>,
+    /// Compute only slice K of N (lines i with i % N == K - 1) and write a shard file for
+    /// `stfit tables merge`.
+    #[arg(long)]
+    pub shard: Option<Shard>,
+    /// Random walks per cell (orders multiple or all).
+    #[arg(long)]
+    pub walks: Option<u64>,
+    /// Seed of the random walks (orders multiple or all); every cell uses the same numbers.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Output file.
+    #[arg(long, required = true)]
+    pub out: Option<PathBuf>,
+}
+
+/// Arguments of `stfit tables merge`.
+#[derive(Debug, clap::Args)]
+pub struct MergeArgs {
+    /// Shard files written by `stfit tables --shard K/N`, every K once.
+    #[arg(required = true)]
+    pub shards: Vec<PathBuf>,
+    /// Output format (default: from the extension of --out).
+    #[arg(long, value_enum)]
+    pub format: Option<FormatArg>,
+    /// Output file.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum NdfArg {
+    Beckmann,
+    Ggx,
+    #[value(name = "student-t")]
+    StudentT,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SideArg {
+    Outside,
+    Inside,
+    Both,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SurfaceArg {
+    Dielectric,
+    Conductor,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum OrdersArg {
+    Single,
+    Multiple,
+    All,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MaskingArg {
+    Correlated,
+    ReflectionForm,
+    Separable,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum LayoutArg {
+    Cycles,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FormatArg {
+    Csv,
+    Npy,
+    C,
+}
+
+impl From<FormatArg> for Format {
+    fn from(f: FormatArg) -> Self {
+        match f {
+            FormatArg::Csv => Self::Csv,
+            FormatArg::Npy => Self::Npy,
+            FormatArg::C => Self::C,
+        }
+    }
+}
+
+fn usage(m: impl Into<String>) -> CmdError {
+    CmdError::Usage(m.into())
+}
+
+/// Runs `stfit tables` or `stfit tables merge`.
+pub fn run(args: Args) -> CmdResult {
+    match args.command {
+        Some(TablesCommand::Merge(m)) => merge(&m),
+        None => compute_table(&args.table),
+    }
+}
+
+/// The table specification the options describe, or a usage error naming the option.
+fn spec(a: &TableArgs) -> Result<TableSpec, CmdError> {
+    let family = match a.ndf {
+        Some(NdfArg::Beckmann) => Family::Beckmann,
+        Some(NdfArg::Ggx) => Family::Ggx,
+        Some(NdfArg::StudentT) => Family::StudentT,
+        None => return Err(usage("--ndf is required")),
+    };
+    let surface = match (a.surface, a.n, a.k) {
+        (SurfaceArg::Dielectric, None, None) => Surface::Dielectric,
+        (SurfaceArg::Dielectric, _, _) => {
+            return Err(usage("--n and --k apply only to --surface conductor"));
+        }
+        (SurfaceArg::Conductor, None, None) => Surface::Mirror,
+        (SurfaceArg::Conductor, Some(n), Some(k)) => Surface::Conductor { n, k },
+        (SurfaceArg::Conductor, _, _) => return Err(usage("--n and --k go together")),
+    };
+    let orders = match a.orders {
+        OrdersArg::Single => ScatteringOrders::Single,
+        OrdersArg::Multiple => ScatteringOrders::Multiple,
+        OrdersArg::All => ScatteringOrders::All,
+    };
+    let masking = match a.masking {
+        MaskingArg::Correlated => TableMasking::Correlated,
+        MaskingArg::ReflectionForm => TableMasking::ReflectionForm,
+        MaskingArg::Separable => TableMasking::Separable,
+    };
+    if family != Family::StudentT && a.gamma_grid.is_some() {
+        return Err(usage("--gamma-grid applies only to --ndf student-t"));
+    }
+    if family == Family::StudentT && a.gamma_grid.is_none() {
+        return Err(usage("--gamma-grid is required for --ndf student-t"));
+    }
+    let dielectric = surface == Surface::Dielectric;
+    if !dielectric && a.eta_grid.is_some() {
+        return Err(usage("--eta-grid applies only to --surface dielectric"));
+    }
+    let mut spec = if a.layout == Some(LayoutArg::Cycles) {
+        for (set, name) in [
+            (a.alpha_grid.is_some(), "--alpha-grid"),
+            (a.mu_grid.is_some(), "--mu-grid"),
+            (a.eta_grid.is_some(), "--eta-grid"),
+        ] {
+            if set {
+                return Err(usage(format!("{name} conflicts with --layout cycles")));
+            }
+        }
+        TableSpec::cycles(family, surface, masking, orders, a.gamma_grid.clone())
+    } else {
+        let need = |axis: &Option<Axis>, name: &str| {
+            axis.clone()
+                .ok_or_else(|| usage(format!("{name} is required (or --layout cycles)")))
+        };
+        TableSpec {
+            family,
+            surface,
+            masking,
+            orders,
+            sides: vec![Side::Outside, Side::Inside],
+            alpha: need(&a.alpha_grid, "--alpha-grid")?,
+            gamma: a.gamma_grid.clone(),
+            eta: if dielectric {
+                Some(need(&a.eta_grid, "--eta-grid")?)
+            } else {
+                None
+            },
+            mu: need(&a.mu_grid, "--mu-grid")?,
+            walks: 100_000,
+            seed: 1,
+        }
+    };
+    spec.sides = match (a.side, dielectric) {
+        (None | Some(SideArg::Both), true) => vec![Side::Outside, Side::Inside],
+        (None | Some(SideArg::Outside), _) => vec![Side::Outside],
+        (Some(SideArg::Inside), true) => vec![Side::Inside],
+        (Some(_), false) => {
+            return Err(usage(
+                "--side: conductors are two-sided; tables are for light from outside",
+            ));
+        }
+    };
+    if orders == ScatteringOrders::Single {
+        if a.walks.is_some() || a.seed.is_some() {
+            return Err(usage(
+                "--walks and --seed apply only to --orders multiple or all",
+            ));
+        }
+    } else {
+        spec.walks = a.walks.unwrap_or(spec.walks);
+        spec.seed = a.seed.unwrap_or(spec.seed);
+    }
+    spec.check().map_err(spec_error)?;
+    Ok(spec)
+}
+
+/// An invalid specification is a usage error (exit 2); a failed computation is not.
+fn spec_error(e: SpecError) -> CmdError {
+    match e {
+        SpecError::NotFinite(m) => CmdError::Failed(m),
+        e => usage(e.to_string()),
+    }
+}
+
+/// Writes `bytes` to `path`.
+fn write(path: &Path, bytes: &[u8]) -> CmdResult {
+    std::fs::write(path, bytes)
+        .map_err(|e| CmdError::Failed(format!("{}: cannot write: {e}", path.display())))
+}
+
+/// The progress bar of a run, drawn when stderr is a terminal.
+fn progress_bar(units: u64) -> Option<ProgressBar> {
+    std::io::stderr().is_terminal().then(|| {
+        let bar = ProgressBar::new(units);
+        if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} cells, eta {eta}") {
+            bar.set_style(style);
+        }
+        bar
+    })
+}
+
+fn compute_table(a: &TableArgs) -> CmdResult {
+    let spec = spec(a)?;
+    let out = a.out.as_deref().ok_or_else(|| usage("--out is required"))?;
+    let shard = a.shard.unwrap_or(Shard::WHOLE);
+    if a.shard.is_some() && a.format.is_some() {
+        return Err(usage(
+            "--format does not apply to --shard (shards are merged with stfit tables merge)",
+        ));
+    }
+    shard.check(spec.lines()).map_err(spec_error)?;
+    let bar = progress_bar(work_units(&spec, shard));
+    let progress = |n| {
+        if let Some(bar) = &bar {
+            bar.inc(n);
+        }
+    };
+    let rule = Quadrature::default();
+    let lines = compute::compute(&spec, shard, &rule, &progress).map_err(spec_error)?;
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let truncated = lines
+        .iter()
+        .flat_map(|l| &l.cells)
+        .filter_map(|c| c.walk.map(|w| w.truncated))
+        .fold(0.0, f64::max);
+    if truncated > 0.0 {
+        eprintln!(
+            "warning: walks that reached the safety cap on scattering events dropped up to \
+             {truncated:.3e} of the flux of a cell"
+        );
+    }
+    let cells: usize = lines.iter().map(|l| l.cells.len()).sum();
+    if a.shard.is_some() {
+        let text = shard::write(&spec, shard, &lines)
+            .map_err(|e| CmdError::Failed(format!("cannot encode the shard: {e}")))?;
+        write(out, text.as_bytes())?;
+        return print_stdout(&format!(
+            "shard {shard}: {} lines, {cells} cells -> {}\n",
+            lines.len(),
+            out.display()
+        ));
+    }
+    let format = a
+        .format
+        .map_or_else(|| Format::from_path(out), Format::from);
+    write(out, &format.write(&Table { spec, lines }))?;
+    print_stdout(&format!("{cells} cells -> {}\n", out.display()))
+}
+
+fn merge(m: &MergeArgs) -> CmdResult {
+    let mut files = Vec::with_capacity(m.shards.len());
+    for path in &m.shards {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| CmdError::Failed(format!("{}: cannot read: {e}", path.display())))?;
+        files.push((path.display().to_string(), text));
+    }
+    let table = shard::merge(&files).map_err(|e| CmdError::Failed(e.to_string()))?;
+    let format = m
+        .format
+        .map_or_else(|| Format::from_path(&m.out), Format::from);
+    write(&m.out, &format.write(&table))?;
+    let cells: usize = table.lines.iter().map(|l| l.cells.len()).sum();
+    print_stdout(&format!(
+        "{} shards, {cells} cells -> {}\n",
+        m.shards.len(),
+        m.out.display()
+    ))
+}

@@ -1,0 +1,178 @@
+//! `stfit export`: end-to-end runs of the command, its outputs and its errors.
+
+use stfit_fit::FitsFile;
+use stfit_test_support::{CaseDir, Cli, project_root};
+
+fn cli() -> Cli {
+    Cli::new(env!("CARGO_BIN_EXE_stfit"))
+}
+
+fn example_fits() -> String {
+    project_root()
+        .join("fits/example-fits.json")
+        .display()
+        .to_string()
+}
+
+/// A pbrt-v4 export of one GGX fit prints one Material line whose roughness is alpha^2 of the
+/// stored fit (pbrt's default remapping), to 1e-6.
+#[test]
+fn pbrt_export_of_a_ggx_fit_prints_roughness_alpha_squared() {
+    let fits = FitsFile::read(&project_root().join("fits/example-fits.json")).unwrap();
+    let alpha = fits
+        .fits
+        .iter()
+        .find(|f| f.sample == "ground" && f.model.kind.name() == "ggx")
+        .unwrap()
+        .model
+        .alpha;
+    let run = cli().run(&[
+        "export",
+        &example_fits(),
+        "--to",
+        "pbrt-v4",
+        "--sample",
+        "ground",
+        "--model",
+        "ggx",
+    ]);
+    let text = run.ok();
+    let lines: Vec<&str> = text.lines().filter(|l| l.starts_with("Material")).collect();
+    assert_eq!(lines.len(), 1, "{text}");
+    let r: f64 = lines[0]
+        .split("\"float roughness\" [ ")
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((r.sqrt() - alpha).abs() < 1e-6, "{}", lines[0]);
+}
+
+/// A Radiance export writes a WINDOW XML file with the four Klems blocks of 145 x 145 values:
+/// the pane by random walks, the single-scattering interface by the deterministic quadrature.
+#[test]
+fn radiance_export_writes_four_klems_blocks() {
+    let dir = CaseDir::new("export-radiance");
+    for (layer, method) in [
+        ("pane", "Monte Carlo: 64 cosine-weighted"),
+        ("interface", "deterministic quadrature"),
+    ] {
+        let path = dir.join(&format!("{layer}.xml"));
+        cli()
+            .run(&[
+                "export",
+                &example_fits(),
+                "--to",
+                "radiance",
+                "--sample",
+                "etched",
+                "--model",
+                "student-t",
+                "--layer",
+                layer,
+                "--walks",
+                "64",
+                "--out",
+                path.to_str().unwrap(),
+            ])
+            .ok();
+        let xml = std::fs::read_to_string(&path).unwrap();
+        for b in [
+            "Transmission Front",
+            "Transmission Back",
+            "Reflection Front",
+            "Reflection Back",
+        ] {
+            assert!(xml.contains(&format!(
+                "<WavelengthDataDirection>{b}</WavelengthDataDirection>"
+            )));
+        }
+        let rows = xml.lines().filter(|l| l.split(", ").count() == 145).count();
+        assert_eq!(rows, 4 * 145, "{layer}");
+        assert!(xml.contains("is not applied"), "{layer}");
+        assert!(xml.contains(method), "{layer}");
+    }
+}
+
+/// With an existing folder as `--out`, every selected fit gets its own file named
+/// SAMPLE_MODEL-TARGET.EXT, listed on stdout; V-Ray writes a .vrscene.
+#[test]
+fn export_to_a_folder_writes_one_file_per_fit() {
+    let dir = CaseDir::new("export-folder");
+    let run = cli().run(&[
+        "export",
+        &example_fits(),
+        "--to",
+        "vray",
+        "--sample",
+        "frosted",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    let listed: Vec<&str> = run.ok().lines().collect();
+    assert_eq!(listed.len(), 4, "{listed:?}");
+    for name in [
+        "frosted_beckmann-vray.vrscene",
+        "frosted_ggx-vray.vrscene",
+        "frosted_student_t-vray.vrscene",
+        "frosted_student_t_gamma_fixed-vray.vrscene",
+    ] {
+        let text = std::fs::read_to_string(dir.join(name)).unwrap();
+        assert!(text.contains("BRDFVRayMtl"), "{name}");
+    }
+}
+
+/// Invalid command-line values exit with 2, bad data with 1, naming the file and the fit.
+#[test]
+fn bad_values_and_bad_files_are_refused_with_the_right_exit_code() {
+    let fits = example_fits();
+    let dir = CaseDir::new("export-errors");
+    let one_file = dir.join("x.xml");
+    let usage: [&[&str]; 5] = [
+        &["--to", "radiance", "--absorption", "1.5"],
+        &["--to", "mitsuba3", "--layer", "interface"],
+        &["--to", "radiance", "--walks", "0"],
+        &["--to", "radiance", "--out", one_file.to_str().unwrap()],
+        &["--to", "pbrt-v4", "--samples", "10"],
+    ];
+    for extra in usage {
+        let args = [&["export", fits.as_str()], extra].concat();
+        let err = cli().run(&args).fails_with(2).to_string();
+        assert!(err.starts_with("error"), "{args:?}: {err}");
+    }
+    let err = cli()
+        .run(&["export", &fits, "--to", "pbrt-v4", "--samples", "10"])
+        .fails_with(2)
+        .to_string();
+    assert!(err.contains("--walks"), "{err}");
+    let unversioned = dir.file(
+        "old.json",
+        r#"{"fits": [{"sample": "s", "model": "ggx", "alpha": 0.3, "scale": 1.0}]}"#,
+    );
+    let err = cli()
+        .run(&["export", unversioned.to_str().unwrap(), "--to", "pbrt-v4"])
+        .fails_with(1)
+        .to_string();
+    assert!(err.contains("old.json") && err.contains("version"), "{err}");
+    let text = std::fs::read_to_string(project_root().join("fits/example-fits.json")).unwrap();
+    let bad = dir.file(
+        "bad.json",
+        text.replacen("\"alpha\": 0.21829845077431576", "\"alpha\": -1.0", 1),
+    );
+    let err = cli()
+        .run(&["export", bad.to_str().unwrap(), "--to", "pbrt-v4"])
+        .fails_with(1)
+        .to_string();
+    assert!(
+        err.contains("bad.json") && err.contains("fit 0") && err.contains("alpha"),
+        "{err}"
+    );
+    let err = cli()
+        .run(&["export", &fits, "--to", "pbrt-v4", "--sample", "nothing"])
+        .fails_with(1)
+        .to_string();
+    assert!(err.contains("no fit matches"), "{err}");
+}
