@@ -678,3 +678,58 @@ fn stored_example_data_and_fits_are_reproduced() {
         }
     }
 }
+
+/// The fits of `--model all --orders all` on two samples run in parallel: with
+/// `RAYON_NUM_THREADS=1` and `=2` the JSON is byte-identical.
+#[test]
+fn fit_json_does_not_depend_on_the_thread_count() {
+    let dir = CaseDir::new("threads");
+    let file = dir.join("two.csv");
+    for (name, alpha, append) in [("a", "0.3", false), ("b", "0.5", true)] {
+        let mut args = vec![
+            "synth",
+            "--model",
+            "ggx",
+            "--alpha",
+            alpha,
+            "--noise",
+            "0.02",
+            "--sample",
+            name,
+            "--out",
+            p(&file),
+        ];
+        if append {
+            args.push("--append");
+        }
+        stfit_ok(&args);
+    }
+    let run = |threads: &str| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_stfit"))
+            .args([
+                p(&file),
+                "--model",
+                "all",
+                "--orders",
+                "all",
+                "--walks",
+                "1000",
+                "--json",
+            ])
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .expect("stfit runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out.stdout
+    };
+    let one = run("1");
+    assert_eq!(
+        String::from_utf8_lossy(&one).matches("\"sample\"").count(),
+        8
+    );
+    assert_eq!(one, run("2"));
+}
