@@ -98,12 +98,7 @@ fn surrogate_estimates_the_walk_term() {
         t.variance_of(&a).sqrt()
     };
     let mut worst = 0.0f64;
-    for (alpha, gamma, eta) in [
-        (0.05, 3.0, 1.5),
-        (0.3, 2.1, 1.3),
-        (0.6, 10.0, 1.7),
-        (1.0, 2.5, 1.51),
-    ] {
+    for (alpha, gamma, eta) in [(0.3, 2.1, 1.3), (0.6, 10.0, 1.7), (1.0, 2.5, 1.51)] {
         let center = coords(alpha, gamma, eta);
         let s = Surrogate::build(&center, &step, |x| Ok(term(&fwd, x))).unwrap();
         let at_center = term(&fwd, &center);
