@@ -259,7 +259,7 @@ fn fits_of(stdout: &str) -> Vec<serde_json::Value> {
 
 /// The keys of one fit: those of stfit 0.1 (whose names and meanings stay) and those added
 /// since, which record the model and how it was fitted.
-const KEYS: [&str; 26] = [
+const KEYS: [&str; 27] = [
     "alpha",
     "alpha_stderr",
     "data",
@@ -286,6 +286,7 @@ const KEYS: [&str; 26] = [
     "seed",
     "stfit_version",
     "walks",
+    "warnings",
 ];
 
 #[test]

@@ -16,31 +16,32 @@ fn stfit(args: &[&str]) -> String {
         .to_owned()
 }
 
+/// `stfit synth` of the rough GGX glass (alpha 0.5, eta 1.5) on a general grid.
+const GLASS: [&str; 9] = [
+    "synth", "--model", "ggx", "--alpha", "0.5", "--eta", "1.5", "--grid", "general",
+];
+
+/// The outgoing directions of every file and CSV of the glass, and its sample name.
+const OUTGOING: [&str; 6] = [
+    "--theta-o",
+    "2.5:87.5:5,92.5:177.5:5",
+    "--phi-o",
+    "0:345:15",
+    "--sample",
+    "rough",
+];
+
 /// Writes the files of a rough GGX glass (alpha 0.5, eta 1.5) into `dir` and returns them.
 fn synth(dir: &Path, form: &str, theta_i: &str) -> Vec<String> {
-    let listing = stfit(&[
-        "synth",
-        "--model",
-        "ggx",
-        "--alpha",
-        "0.5",
-        "--eta",
-        "1.5",
-        "--grid",
-        "general",
-        "--theta-i",
-        theta_i,
-        "--theta-o",
-        "2.5:87.5:5,92.5:177.5:5",
-        "--phi-o",
-        "0:345:15",
-        "--pabopto",
-        form,
-        "--sample",
-        "rough",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
+    let listing = stfit(
+        &[
+            &GLASS[..],
+            &["--theta-i", theta_i],
+            &OUTGOING,
+            &["--pabopto", form, "--out", dir.to_str().unwrap()],
+        ]
+        .concat(),
+    );
     listing.lines().map(str::to_owned).collect()
 }
 
@@ -205,25 +206,7 @@ fn radiance_reads_stfit_pabopto_files() {
     // stfit reads the files back to the values of the general CSV of the same grid.
     let csv = dir.file(
         "same.csv",
-        stfit(&[
-            "synth",
-            "--model",
-            "ggx",
-            "--alpha",
-            "0.5",
-            "--eta",
-            "1.5",
-            "--grid",
-            "general",
-            "--theta-i",
-            "0,20,40,60,120,150",
-            "--theta-o",
-            "2.5:87.5:5,92.5:177.5:5",
-            "--phi-o",
-            "0:345:15",
-            "--sample",
-            "rough",
-        ]),
+        stfit(&[&GLASS[..], &["--theta-i", "0,20,40,60,120,150"], &OUTGOING].concat()),
     );
     let written: std::collections::HashMap<String, f64> =
         stfit_fit::load_path(&csv).unwrap().samples[0]

@@ -7,7 +7,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use stfit_core::Vec3;
 use stfit_core::math::radians;
-use stfit_core::walk::{AlbedoEstimate, DEFAULT_ALBEDO_WALKS, Estimator};
+use stfit_core::walk::{AlbedoEstimate, DEFAULT_ALBEDO_WALKS, Estimator, defined_stderr};
 
 /// Arguments of `stfit albedo`.
 #[derive(Debug, clap::Args)]
@@ -88,8 +88,8 @@ fn format_result(args: &Args, a: &AlbedoEstimate) -> String {
         let v = serde_json::json!({
             "reflectance": a.reflectance,
             "transmittance": a.transmittance,
-            "reflectance_stderr": a.reflectance_stderr,
-            "transmittance_stderr": a.transmittance_stderr,
+            "reflectance_stderr": defined_stderr(a.walks, a.reflectance_stderr),
+            "transmittance_stderr": defined_stderr(a.walks, a.transmittance_stderr),
             "mean_bounces": a.mean_bounces,
             "truncated": a.truncated,
             "walks": a.walks,
@@ -97,12 +97,16 @@ fn format_result(args: &Args, a: &AlbedoEstimate) -> String {
         });
         return format!("{v}\n");
     }
+    let pm = |se: f64| match defined_stderr(a.walks, se) {
+        Some(se) => format!(" +- {se:.6}"),
+        None => String::new(),
+    };
     let mut text = format!(
-        "reflectance    {:.6} +- {:.6}\ntransmittance  {:.6} +- {:.6}\nmean bounces   {:.4}\nwalks          {}\n",
+        "reflectance    {:.6}{}\ntransmittance  {:.6}{}\nmean bounces   {:.4}\nwalks          {}\n",
         a.reflectance,
-        a.reflectance_stderr,
+        pm(a.reflectance_stderr),
         a.transmittance,
-        a.transmittance_stderr,
+        pm(a.transmittance_stderr),
         a.mean_bounces,
         a.walks
     );

@@ -14,7 +14,7 @@ use std::path::Path;
 
 use stfit_core::bsdf::AnalyticBsdf;
 use stfit_core::surface::Evaluation;
-use stfit_core::walk::{DEFAULT_EVAL_WALKS, eval_pairs};
+use stfit_core::walk::{DEFAULT_EVAL_WALKS, defined_stderr, eval_pairs};
 use stfit_fit::pairs::read_pairs;
 
 use super::surface::{SurfaceArgs, flags};
@@ -70,12 +70,27 @@ pub fn run(args: &Args) -> CmdResult {
                 .iter()
                 .map(|&(wi, wo)| bsdf.f_cos(wi, wo))
                 .collect();
+            if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+                return Err(failed(format!(
+                    "row {}: the BSDF value is not finite",
+                    k + 1
+                )));
+            }
             table.write_with(&mut out, &values, None)
         }
         Evaluation::Walk(walk) => {
             let est = eval_pairs(walk.as_ref(), &table.pairs, args.walks, args.seed);
             let values: Vec<f64> = est.iter().map(|e| e.mean).collect();
-            let stderr: Vec<Option<f64>> = est.iter().map(|e| Some(e.stderr)).collect();
+            let stderr: Vec<Option<f64>> = est
+                .iter()
+                .map(|e| defined_stderr(args.walks, e.stderr))
+                .collect();
+            if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+                return Err(failed(format!(
+                    "row {}: the random-walk estimate is not finite",
+                    k + 1
+                )));
+            }
             table.write_with(&mut out, &values, Some(&stderr))
         }
     };

@@ -167,7 +167,12 @@ impl FitOptionArgs {
                     "--gamma fixes the Student-T shape; it needs --model student-t",
                 ));
             }
-            stfit_core::error::check_gamma(g).map_err(|e| usage(format!("--gamma: {e}")))?;
+            let check = if self.orders == OrdersArg::All {
+                stfit_core::error::check_walk_gamma
+            } else {
+                stfit_core::error::check_gamma
+            };
+            check(g).map_err(|e| usage(format!("--gamma: {e}")))?;
         }
         Ok(match self.model {
             ModelArg::Beckmann => vec![ModelSpec::beckmann()],
@@ -193,7 +198,7 @@ impl FitOptionArgs {
         }
         let opts = FitOptions {
             eta: parameter("--eta", &self.eta, |e| {
-                stfit_core::error::check_eta(e).map_err(|e| e.to_string())
+                stfit_fit::options::check_fit_eta(e).map_err(|e| e.to_string())
             })?,
             scale: parameter("--scale", &self.scale, |s| {
                 if s.is_finite() && s > 0.0 {
@@ -305,6 +310,11 @@ pub fn fit_with_progress(
     let fits = fit_dataset(data, specs, opts, &progress).map_err(failed);
     if let Some(bar) = bar {
         bar.finish_and_clear();
+    }
+    for fit in fits.iter().flatten() {
+        for w in &fit.warnings {
+            eprintln!("warning: {}: {w}", fit.label());
+        }
     }
     fits
 }

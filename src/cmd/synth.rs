@@ -222,9 +222,10 @@ pub fn run(args: SynthArgs) -> CmdResult {
     };
     let sample = spec.sample().map_err(|e| usage(format!("synth: {e}")))?;
 
+    let show = stfit_core::error::show;
     let gamma = args
         .gamma
-        .map_or(String::new(), |g| format!(" --gamma {g}"));
+        .map_or(String::new(), |g| format!(" --gamma {}", show(g)));
     let value = match args.grid {
         GridArg::InPlane => "L = scale f_t cos(theta_i) / eta^2",
         GridArg::General => "BSDF = scale f",
@@ -243,11 +244,11 @@ pub fn run(args: SynthArgs) -> CmdResult {
          {model_line}, with noise max(0, v (1 + noise z))",
         env!("CARGO_PKG_VERSION"),
         kind.name(),
-        args.alpha,
-        args.scale,
-        args.noise,
+        show(args.alpha),
+        show(args.scale),
+        show(args.noise),
         args.seed,
-        args.eta,
+        show(args.eta),
         masking.name(),
         args.sample,
     );

@@ -470,12 +470,46 @@ pub struct Surface {
 
 impl Surface {
     /// The surface's random walk restricted to `orders`, as one estimator object. Fails for a
-    /// null walk on an NDF without a finite majorant (Student-T with gamma < 2).
+    /// Student-T shape below [`GAMMA_WALK_MIN`](crate::error::GAMMA_WALK_MIN) (walks whose
+    /// length diverges at 3/2) and for a null walk on an NDF without a finite majorant
+    /// (Student-T with gamma < 2).
     pub fn estimator(&self, orders: ScatteringOrders) -> Result<Box<dyn Estimator>, SurfaceError> {
+        if let Some(g) = self.student_t_gamma() {
+            crate::error::check_walk_gamma(g).map_err(param("gamma"))?;
+        }
+        if let Some(p) = self.porosity().filter(|&p| p > 0.99) {
+            return Err(SurfaceError::Param {
+                param: "porosity",
+                source: ParamError::OutOfRange {
+                    name: "porosity",
+                    value: p,
+                    expected: "random walks need porosity in [0, 0.99]: at 1 they never end",
+                },
+            });
+        }
         match self.facet {
             SurfaceFacet::Dielectric(f) => with_facet(self.ndf, f, self.walk, orders),
             SurfaceFacet::Conductor(f) => with_facet(self.ndf, f, self.walk, orders),
             SurfaceFacet::Lambertian(f) => with_facet(self.ndf, f, self.walk, orders),
+        }
+    }
+
+    /// The porosity of a porous NDF.
+    fn porosity(&self) -> Option<f64> {
+        match self.ndf {
+            SurfaceNdf::Porous(PorousNdf::Beckmann(p)) => Some(p.porosity()),
+            SurfaceNdf::Porous(PorousNdf::Ggx(p)) => Some(p.porosity()),
+            SurfaceNdf::Porous(PorousNdf::StudentT(p)) => Some(p.porosity()),
+            _ => None,
+        }
+    }
+
+    /// The Student-T shape of the surface's NDF or of its porous base, if it has one.
+    fn student_t_gamma(&self) -> Option<f64> {
+        match self.ndf {
+            SurfaceNdf::HeightField(AnyNdf::StudentT(n)) => Some(n.gamma()),
+            SurfaceNdf::Porous(PorousNdf::StudentT(p)) => Some(p.base().0.gamma()),
+            _ => None,
         }
     }
 

@@ -88,12 +88,12 @@ fn alpha() -> impl Strategy<Value = f64> {
 fn eta() -> impl Strategy<Value = f64> {
     prop_oneof![
         0.2f64..5.0,
-        Just(1.0 + 1e-9),
-        Just(1.0 - 1e-9),
+        Just(1.0 + 0.005),
+        Just(1.0 - 0.005),
         Just(1.5),
         Just(1.0 / 1.5),
     ]
-    .prop_filter("eta != 1", |e| *e != 1.0)
+    .prop_filter("|eta - 1| >= 0.005", |e| (e - 1.0).abs() >= 0.005)
 }
 
 fn masking() -> impl Strategy<Value = Masking> {

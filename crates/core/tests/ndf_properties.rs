@@ -242,7 +242,16 @@ fn student_t_lambda_is_gamma_average_of_beckmann() {
                 // alpha_m from t = ln m directly, so that tiny m do not overflow.
                 let lb = |t: f64| {
                     let am = alpha * (g - 1.0).sqrt() * (-0.5 * t).exp();
-                    Beckmann::new(am).unwrap().lambda(w)
+                    match Beckmann::new(am) {
+                        Ok(b) => b.lambda(w),
+                        // Beyond the supported roughness: Lambda depends on cot / am only, so
+                        // evaluate it at alpha 100 with the cotangent scaled alike.
+                        Err(_) => {
+                            let cot = w.z / w.x.hypot(w.y) * 100.0 / am;
+                            let w2 = Vec3::new(1.0, 0.0, cot).normalize();
+                            Beckmann::new(100.0).unwrap().lambda(w2)
+                        }
+                    }
                 };
                 // Gamma(g-1) density in t = ln m: exp((g-1) t - e^t - lnGamma(g-1)).
                 let h = 0.005;

@@ -12,6 +12,26 @@ use crate::conventions::{
     theta_in_range, theta_o_in_range,
 };
 
+/// Text from a file or the command line as a message shows it: control characters escaped
+/// (so that the message stays on one line) and, past 60 characters, cut with the total length
+/// given, so that a huge field is not echoed whole.
+pub fn short(text: &str) -> String {
+    const MAX: usize = 60;
+    let mut out = String::new();
+    for (shown, c) in text.chars().enumerate() {
+        if shown == MAX {
+            out.push_str(&format!("... ({} characters)", text.chars().count()));
+            return out;
+        }
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
 /// The angles of a measurement as its file gave them, in degrees.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Angles {
@@ -233,6 +253,20 @@ impl Measurement {
                 theta_o_deg,
             } => Some((theta_i_deg, theta_o_deg)),
             Angles::Spherical { .. } => None,
+        }
+    }
+
+    /// The spherical angles `((theta_i_deg, phi_i_deg), (theta_o_deg, phi_o_deg))`, if this is
+    /// a general point.
+    pub fn spherical_angles(&self) -> Option<((f64, f64), (f64, f64))> {
+        match self.angles {
+            Angles::Spherical {
+                theta_i_deg,
+                phi_i_deg,
+                theta_o_deg,
+                phi_o_deg,
+            } => Some(((theta_i_deg, phi_i_deg), (theta_o_deg, phi_o_deg))),
+            Angles::InPlane { .. } => None,
         }
     }
 }

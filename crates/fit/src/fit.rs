@@ -55,13 +55,13 @@ use stfit_core::error::check_gamma;
 use stfit_core::walk::ScatteringOrders;
 use thiserror::Error;
 
-use crate::data::{Dataset, Measured, Sample};
+use crate::data::{Dataset, Measured, Sample, short};
 use crate::forward::{Forward, WalkTerm};
 use crate::loss::{Projected, Projection, signed_sqrt};
 use crate::model::{Gamma, Model, ModelKind, ModelSpec, all_models};
 use crate::optimize::minimize;
 use crate::options::{ETA_MAX, ETA_MIN, FitOptions, Loss, MultipleTerm, Parameter};
-use crate::result::FitResult;
+use crate::result::{FitResult, FitWarning};
 use crate::surrogate::Surrogate;
 
 /// Smallest roughness the search reaches.
@@ -96,7 +96,8 @@ const SURROGATE_ROUNDS: usize = 5;
 pub enum FitError {
     /// Fewer usable points (finite, positive weight) than the fit needs.
     #[error(
-        "sample `{sample}`: {n} usable points, a fit with {params} parameters needs at least {needed}"
+        "sample `{}`: {n} usable points, a fit with {params} parameters needs at least {needed}",
+        short(sample)
     )]
     TooFewPoints {
         sample: String,
@@ -105,10 +106,10 @@ pub enum FitError {
         needed: usize,
     },
     /// Every usable measured value is zero: nothing to fit.
-    #[error("sample `{sample}`: every measured value is zero")]
+    #[error("sample `{}`: every measured value is zero", short(sample))]
     AllZero { sample: String },
     /// A measurement outside the model's domain.
-    #[error("sample `{sample}`, point {index}: {reason}")]
+    #[error("sample `{}`, point {index}: {reason}", short(sample))]
     InvalidData {
         sample: String,
         index: usize,
@@ -121,20 +122,38 @@ pub enum FitError {
     #[error("invalid model: {0}")]
     InvalidSpec(String),
     /// The model is zero at every point whatever its parameters.
-    #[error("sample `{sample}`: no microfacet connects any measured pair of directions")]
+    #[error(
+        "sample `{}`: no microfacet connects any measured pair of directions",
+        short(sample)
+    )]
     NoSignal { sample: String },
-    /// The optimiser failed from every starting point.
-    #[error("sample `{sample}`, model {model}: optimizer failed: {reason}")]
-    Optimizer {
+    /// The cost was not finite at any point the optimiser evaluated, from every start.
+    #[error(
+        "sample `{}`, model {model}: the model is not finite at any of the {evaluations} \
+         points the optimizer tried; the measured directions may lie where the model \
+         overflows (near-specular pairs with a tiny roughness)",
+        short(sample)
+    )]
+    NoFiniteCost {
         sample: String,
         model: &'static str,
-        reason: String,
+        evaluations: u64,
     },
+    /// A model value that overflows or underflows f64.
+    #[error("{0}")]
+    NotRepresentable(String),
+    /// The calibration scale cannot be fitted or held as asked.
+    #[error("sample `{}`: {reason}", short(sample))]
+    Scale { sample: String, reason: String },
 }
 
 /// A fit of one sample of a dataset that failed, with where.
 #[derive(Debug, Clone, PartialEq, Error)]
-#[error("{}: sample '{sample}', model {model}: {error}", file.display())]
+#[error(
+    "{}: sample '{}', model {model}: {error}",
+    short(&file.display().to_string()),
+    short(sample)
+)]
 pub struct DatasetFitError {
     /// The data file.
     pub file: PathBuf,
@@ -149,9 +168,15 @@ pub struct DatasetFitError {
 struct Prepared<'a> {
     sample: &'a Sample,
     forward: Forward,
-    /// Measured values of the usable points.
+    /// Measured values of the usable points, divided by [`Prepared::unit`]: the fit works in
+    /// these units, so that data of any magnitude (1e-200 or 1e300) give the same fit, up to
+    /// the unit, and the same relative standard errors.
     v: Vec<f64>,
     w: Vec<f64>,
+    /// The largest magnitude of the usable values (1 when they are all zero).
+    unit: f64,
+    /// Usable points whose value is not zero: the points that carry information on the shape.
+    informative: usize,
     /// What the usable points measure.
     measured: Measured,
 }
@@ -190,6 +215,10 @@ impl<'a> Prepared<'a> {
             w.push(p.weight);
         }
         let measured = Measured::of(quantity.iter().copied());
+        let unit = v.iter().fold(0.0f64, |m, &v: &f64| m.max(v.abs()));
+        let unit = if unit > 0.0 { unit } else { 1.0 };
+        v.iter_mut().for_each(|v| *v /= unit);
+        let informative = v.iter().filter(|&&v| v != 0.0).count();
         let forward = Forward::new(
             &pairs,
             quantity,
@@ -203,6 +232,8 @@ impl<'a> Prepared<'a> {
             forward,
             v,
             w,
+            unit,
+            informative,
             measured,
         })
     }
@@ -227,7 +258,11 @@ struct Shape {
 impl Shape {
     fn new(spec: ModelSpec, opts: &FitOptions) -> Result<Self, FitError> {
         if let Gamma::Fixed(g) = spec.gamma() {
-            check_gamma(g)?;
+            if opts.orders == ScatteringOrders::All {
+                stfit_core::error::check_walk_gamma(g)?;
+            } else {
+                check_gamma(g)?;
+            }
         }
         Ok(Self {
             kind: spec.kind(),
@@ -285,6 +320,29 @@ impl Shape {
             h.push(SURROGATE_STEP_ETA);
         }
         h
+    }
+
+    /// The search bounds that the point of search coordinates `x` lies on (or beyond, where
+    /// [`Shape::point`] clamps it), as `(parameter, bound)`.
+    fn bounds_reached(&self, x: &[f64]) -> Vec<(&'static str, f64)> {
+        let mut axes = vec![("alpha", ALPHA_MIN, ALPHA_MAX, 0.0)];
+        if self.gamma.is_free() {
+            axes.push(("gamma", GAMMA_EXCESS_MIN, GAMMA_EXCESS_MAX, 1.5));
+        }
+        if self.eta.is_free() {
+            axes.push(("eta", ETA_MIN - 1.0, ETA_MAX - 1.0, 1.0));
+        }
+        let mut out = Vec::new();
+        for ((name, lo, hi, offset), &xk) in axes.into_iter().zip(x) {
+            // Relative 1e-6 of the parameter (offset excluded): closer is on the bound.
+            const TOL: f64 = 1e-6;
+            if xk <= lo.ln() + TOL {
+                out.push((name, offset + lo));
+            } else if xk >= hi.ln() - TOL {
+                out.push((name, offset + hi));
+            }
+        }
+        out
     }
 
     /// The search coordinates of a point.
@@ -509,12 +567,30 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
             needed: p + 1,
         });
     }
-    if prep.v.iter().all(|&v| v == 0.0) {
+    if prep.informative == 0 {
         return Err(FitError::AllZero {
             sample: sample.clone(),
         });
     }
-    let proj = Projected::new(opts.loss, &prep.v, &prep.w, opts.log_floor, opts.scale);
+    // The fit works in units of the largest measured magnitude (`Prepared::unit`).
+    let unit = prep.unit;
+    let scale_in_units = match opts.scale {
+        Parameter::Free => Parameter::Free,
+        Parameter::Fixed(s) => {
+            let su = s / unit;
+            if !(su.is_finite() && su > 0.0) {
+                return Err(FitError::Scale {
+                    sample: sample.clone(),
+                    reason: format!(
+                        "the fixed scale {s} is out of proportion to the data, whose largest \
+                         magnitude is {unit:e}"
+                    ),
+                });
+            }
+            Parameter::Fixed(su)
+        }
+    };
+    let proj = Projected::new(opts.loss, &prep.v, &prep.w, opts.log_floor, scale_in_units);
     if !prep.forward.has_walks() {
         let eval = Evaluator {
             prep,
@@ -611,7 +687,7 @@ fn search(
 ) -> Result<(crate::optimize::Minimum, u64), FitError> {
     let mut best: Option<crate::optimize::Minimum> = None;
     let mut iterations = 0;
-    let mut last_err = None;
+    let mut evaluations = 0;
     for x0 in starts {
         match minimize(|x| eval.cost(x), &x0, eval.opts.optimizer) {
             Ok(m) => {
@@ -620,13 +696,13 @@ fn search(
                     best = Some(m);
                 }
             }
-            Err(e) => last_err = Some(e),
+            Err(e) => evaluations += e.evaluations,
         }
     }
-    let best = best.ok_or_else(|| FitError::Optimizer {
+    let best = best.ok_or_else(|| FitError::NoFiniteCost {
         sample: eval.prep.sample.name.clone(),
         model: eval.shape.kind.name(),
-        reason: last_err.map_or_else(|| "no starting point".into(), |e| e.to_string()),
+        evaluations,
     })?;
     Ok((best, iterations))
 }
@@ -642,7 +718,8 @@ fn finish(
 ) -> Result<FitResult, FitError> {
     let (prep, shape, opts) = (eval.prep, eval.shape, &eval.opts);
     let sample = &prep.sample.name;
-    let n = prep.v.len();
+    let (n, unit) = (prep.v.len(), prep.unit);
+    let p = shape.dims() + usize::from(opts.scale.is_free());
     let point = shape.point(x);
     let mut m = Vec::new();
     eval.unit_model(point, &mut m)?;
@@ -659,16 +736,62 @@ fn finish(
             sample: sample.clone(),
         });
     }
-    let scale = eval.proj.project(&m).scale;
+    let scale_u = eval.proj.project(&m).scale;
+    if scale_u.is_nan() || scale_u <= 0.0 {
+        return Err(FitError::Scale {
+            sample: sample.clone(),
+            reason: "the best scale is 0: the measured values do not rise with the model \
+                     anywhere (are they mostly negative or zero where the model is large?)"
+                .into(),
+        });
+    }
+    let scale = scale_u * unit;
+    if !scale.is_finite() || scale == 0.0 {
+        return Err(FitError::Scale {
+            sample: sample.clone(),
+            reason: format!(
+                "the fitted scale {scale_u:e} times the data's magnitude {unit:e} is not a \
+                 representable number"
+            ),
+        });
+    }
     let rmse_sqrt_l = (prep
         .v
         .iter()
         .zip(&m)
-        .map(|(&v, &m)| (signed_sqrt(v) - (scale * m).sqrt()).powi(2))
+        .map(|(&v, &m)| (signed_sqrt(v) - (scale_u * m).sqrt()).powi(2))
         .sum::<f64>()
         / n as f64)
-        .sqrt();
-    let se = standard_errors(eval, point, scale, &m, exact)?;
+        .sqrt()
+        * unit.sqrt();
+
+    let mut warnings = Vec::new();
+    if prep.informative < p {
+        warnings.push(FitWarning::FewInformativePoints {
+            informative: prep.informative,
+            parameters: p,
+        });
+    }
+    for (parameter, bound) in shape.bounds_reached(x) {
+        warnings.push(FitWarning::AtBound {
+            parameter: parameter.to_owned(),
+            bound,
+        });
+    }
+    let se = match standard_errors(eval, point, scale_u, &m, exact)? {
+        Some(se) => se,
+        None => {
+            warnings.push(FitWarning::SingularCurvature);
+            StandardErrors::default()
+        }
+    };
+    // A flagged fit has no standard errors: its curvature does not describe an interior
+    // optimum of well-determined parameters.
+    let se = if warnings.is_empty() {
+        se
+    } else {
+        StandardErrors::default()
+    };
     Ok(FitResult {
         sample: sample.clone(),
         model: shape.model(point, scale, opts),
@@ -683,7 +806,12 @@ fn finish(
         alpha_stderr: se.alpha,
         gamma_stderr: se.gamma,
         eta_stderr: se.eta,
-        scale_stderr: se.scale,
+        // Undefined where the product is not representable (data near the limits of f64).
+        scale_stderr: se
+            .scale
+            .map(|s| s * unit)
+            .filter(|s| s.is_finite() && *s > 0.0),
+        warnings,
         iterations,
         data: None,
         stfit_version: env!("CARGO_PKG_VERSION").to_owned(),
@@ -700,14 +828,16 @@ struct StandardErrors {
     scale: Option<f64>,
 }
 
-/// Standard errors of `(alpha, [gamma], [eta], [scale])` as in the module docs.
+/// Standard errors of `(alpha, [gamma], [eta], [scale])` as in the module docs, in the fit's
+/// units; `None` when the curvature is singular or a standard error is not a finite positive
+/// number.
 fn standard_errors(
     eval: &Evaluator,
     p: Point,
     scale: f64,
     m: &[f64],
     term: Option<&WalkTerm>,
-) -> Result<StandardErrors, FitError> {
+) -> Result<Option<StandardErrors>, FitError> {
     let proj = &eval.proj;
     let n = m.len();
     let sw: Vec<f64> = proj.w.iter().map(|w| w.sqrt()).collect();
@@ -762,7 +892,7 @@ fn standard_errors(
         .map(|j| sw[j] * (proj.y[j] - proj.transform(scale * m[j])))
         .collect();
     let Some(mut cov) = sandwich_covariance(&cols, &residuals) else {
-        return Ok(StandardErrors::default());
+        return Ok(None);
     };
     if let Some(term) = term {
         for (k, v) in walk_variance(&cols, term, |j| {
@@ -774,28 +904,21 @@ fn standard_errors(
             cov[k][k] += v;
         }
     }
-    let mut se = (0..cols.len()).map(|k| {
-        let s = cov[k][k].sqrt();
-        s.is_finite().then_some(s)
-    });
-    Ok(StandardErrors {
-        alpha: se.next().flatten(),
-        gamma: if p.gamma.is_free() {
-            se.next().flatten()
-        } else {
-            None
-        },
+    let se: Vec<f64> = (0..cols.len()).map(|k| cov[k][k].sqrt()).collect();
+    if se.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
+        return Ok(None);
+    }
+    let mut se = se.into_iter();
+    Ok(Some(StandardErrors {
+        alpha: se.next(),
+        gamma: if p.gamma.is_free() { se.next() } else { None },
         eta: if eval.shape.eta.is_free() {
-            se.next().flatten()
+            se.next()
         } else {
             None
         },
-        scale: if scale_free {
-            se.next().flatten()
-        } else {
-            None
-        },
-    })
+        scale: if scale_free { se.next() } else { None },
+    }))
 }
 
 /// The variances of the fitted parameters due to the Monte Carlo error of the orders >= 2

@@ -40,14 +40,14 @@ pub mod surrogate;
 pub mod synth;
 
 pub use conventions::DEFAULT_ETA;
-pub use data::{Angles, Dataset, Measured, Measurement, Quantity, Sample};
+pub use data::{Angles, Dataset, Measured, Measurement, Quantity, Sample, short};
 pub use fit::{DatasetFitError, FitError, fit_all, fit_dataset, fit_sample};
-pub use load::{LoadError, LoadErrorKind, load_path, load_paths};
+pub use load::{Column, LoadError, LoadErrorKind, load_columns, load_path, load_paths};
 pub use model::{Gamma, Model, ModelKind, ModelSpec, all_models};
 pub use options::{
     DEFAULT_LOG_FLOOR, DEFAULT_WALKS, FitOptions, Loss, MultipleTerm, Optimizer, Parameter,
 };
-pub use result::{FITS_VERSION, FitResult, FitsFile, FitsFileError};
+pub use result::{FITS_VERSION, FitResult, FitWarning, FitsFile, FitsFileError};
 pub use stfit_core::ScatteringOrders;
 pub use stfit_core::bsdf::Masking;
 pub use synth::{Grid, SynthError, SynthSpec};

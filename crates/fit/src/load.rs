@@ -111,10 +111,10 @@ pub enum LoadErrorKind {
     #[error("empty value, expected a number")]
     EmptyValue,
     /// A numeric field does not parse as a number.
-    #[error("'{0}' is not a number")]
+    #[error("'{}' is not a number", crate::data::short(.0))]
     NotANumber(String),
     /// A numeric field is NaN or infinite.
-    #[error("'{0}' is not a finite number")]
+    #[error("'{}' is not a finite number", crate::data::short(.0))]
     NonFinite(String),
     /// A value, `sqrt(L)` or weight field is negative.
     #[error("{0} is negative; must be >= 0")]
@@ -132,13 +132,23 @@ pub enum LoadErrorKind {
     #[error("empty sample name")]
     EmptySampleName,
     /// Every weight of a sample is zero, so nothing constrains its fit.
-    #[error("every weight of sample '{0}' is 0; at least one must be positive")]
+    #[error(
+        "every weight of sample '{}' is 0; at least one must be positive",
+        crate::data::short(.0)
+    )]
     AllWeightsZero(String),
     /// A requested sample name is not in the file.
-    #[error("no sample named '{name}' (the file has: {available})")]
+    #[error(
+        "no sample named '{}' (the file has: {})",
+        crate::data::short(name),
+        crate::data::short(available)
+    )]
     UnknownSample { name: String, available: String },
     /// A sample was requested from a file without a `sample` column.
-    #[error("the file has no 'sample' column, so no sample named '{0}' can be selected")]
+    #[error(
+        "the file has no 'sample' column, so no sample named '{}' can be selected",
+        crate::data::short(.0)
+    )]
     NoSampleColumn(String),
     /// A pab-opto header line after the first data line.
     #[error("a header line after the data; every '#' line must come first")]
@@ -177,6 +187,9 @@ pub enum LoadErrorKind {
     /// The CSV structure itself is broken.
     #[error("malformed CSV: {0}")]
     Csv(String),
+    /// An in-memory column whose length differs from the first column's.
+    #[error("has {found} rows, the first column {expected}")]
+    ColumnLength { found: usize, expected: usize },
 }
 
 impl LoadError {
@@ -258,7 +271,69 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
 
 /// Parses and validates measurement-file contents; `source` names them in errors.
 pub fn load_bytes(source: &Path, bytes: &[u8]) -> Result<Dataset, LoadError> {
-    let mut records = read_records(source, bytes)?.into_iter();
+    dataset_from_records(source, read_records(source, bytes)?)
+}
+
+/// One column of an in-memory table of measurements (see [`load_columns`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Column {
+    /// Numbers (angles, values, weights).
+    Numbers(Vec<f64>),
+    /// Text (sample names, or anything else a file may carry).
+    Text(Vec<String>),
+}
+
+impl Column {
+    fn len(&self) -> usize {
+        match self {
+            Self::Numbers(v) => v.len(),
+            Self::Text(v) => v.len(),
+        }
+    }
+
+    /// Row `k` as the text of a file's field: numbers in Rust's shortest form that reads back
+    /// to the same `f64` (NaN and infinities as `NaN`, `inf`, which the loader refuses).
+    fn field(&self, k: usize) -> String {
+        match self {
+            Self::Numbers(v) => v[k].to_string(),
+            Self::Text(v) => v[k].clone(),
+        }
+    }
+}
+
+/// Reads and validates an in-memory table of measurements whose columns are named as a
+/// measurement file's header (`data-format.md`: in-plane or general, with the optional
+/// `sample` and `weight` columns): every row is checked exactly as a file's row would be, and
+/// a problem is reported as if the table were a CSV file named `source` with its header on
+/// line 1, so row `k` (0-based) is line `k + 2`. Every column must have the same length.
+pub fn load_columns(source: &Path, columns: &[(String, Column)]) -> Result<Dataset, LoadError> {
+    let rows = columns.first().map_or(0, |(_, c)| c.len());
+    if let Some((name, c)) = columns.iter().find(|(_, c)| c.len() != rows) {
+        return Err(LoadError::new(
+            source,
+            None,
+            Some(name),
+            LoadErrorKind::ColumnLength {
+                found: c.len(),
+                expected: rows,
+            },
+        ));
+    }
+    let header: csv::ByteRecord = columns.iter().map(|(name, _)| name.as_str()).collect();
+    let mut records = vec![(1, header)];
+    for k in 0..rows {
+        let record: csv::ByteRecord = columns.iter().map(|(_, c)| c.field(k)).collect();
+        records.push((k as u64 + 2, record));
+    }
+    dataset_from_records(source, records)
+}
+
+/// Validates a header record and data records, each with its 1-based line, into a dataset.
+fn dataset_from_records(
+    source: &Path,
+    records: Vec<(u64, csv::ByteRecord)>,
+) -> Result<Dataset, LoadError> {
+    let mut records = records.into_iter();
     let Some((header_line, header_record)) = records.next() else {
         return Err(LoadError::new(source, Some(1), None, LoadErrorKind::Empty));
     };
@@ -707,6 +782,42 @@ mod tests {
     fn kind_at(text: &str) -> (Option<u64>, Option<String>, LoadErrorKind) {
         let e = load(text).unwrap_err();
         (e.line, e.column, e.kind)
+    }
+
+    /// In-memory columns read to the same dataset as the file with the same fields, and their
+    /// problems are placed as that file's would be (row k on line k + 2).
+    #[test]
+    fn columns_read_as_the_file_of_the_same_fields() {
+        let text = "sample,theta_i_deg,theta_o_deg,L,weight\na,0,180,0.1,1\nb,30,200.5,3e-7,0.5\n\
+                    a,60,140,2,1\n";
+        let file = load(text).unwrap();
+        let num = |v: &[f64]| Column::Numbers(v.to_vec());
+        let mut columns = vec![
+            (
+                "sample".to_string(),
+                Column::Text(vec!["a".into(), "b".into(), "a".into()]),
+            ),
+            ("theta_i_deg".to_string(), num(&[0.0, 30.0, 60.0])),
+            ("theta_o_deg".to_string(), num(&[180.0, 200.5, 140.0])),
+            ("L".to_string(), num(&[0.1, 3e-7, 2.0])),
+            ("weight".to_string(), num(&[1.0, 0.5, 1.0])),
+        ];
+        let table = load_columns(Path::new("t.csv"), &columns).unwrap();
+        assert_eq!(table, file);
+        columns[3].1 = num(&[0.1, f64::NAN, 2.0]);
+        let e = load_columns(Path::new("<arrays>"), &columns).unwrap_err();
+        assert_eq!((e.line, e.column.as_deref()), (Some(3), Some("L")));
+        assert!(matches!(e.kind, LoadErrorKind::NonFinite(_)));
+        columns[3].1 = num(&[0.1, 2.0]);
+        let e = load_columns(Path::new("<arrays>"), &columns).unwrap_err();
+        assert_eq!((e.line, e.column.as_deref()), (None, Some("L")));
+        assert_eq!(
+            e.kind,
+            LoadErrorKind::ColumnLength {
+                found: 2,
+                expected: 3
+            }
+        );
     }
 
     #[test]

@@ -286,9 +286,10 @@ impl Model {
         })
     }
 
-    /// Checks that the model can be evaluated: a valid NDF, a finite scale > 0, a valid eta,
-    /// `single` or `all` orders with a masking they allow, and walks and a seed exactly when
-    /// the orders need them.
+    /// Checks that the model can be evaluated: a valid NDF (alpha, gamma in their supported
+    /// ranges), a finite scale > 0, a valid eta, `single` or `all` orders with a masking they
+    /// allow (for `all`, gamma >= 1.501, where walks stay short), and walks and a seed exactly
+    /// when the orders need them.
     pub fn check(&self) -> Result<(), FitError> {
         self.ndf()?;
         if !(self.scale.is_finite() && self.scale > 0.0) {
@@ -299,6 +300,9 @@ impl Model {
         }
         stfit_core::error::check_eta(self.eta)?;
         crate::options::check_orders(self.orders, self.masking)?;
+        if let (ScatteringOrders::All, Some(g)) = (self.orders, self.gamma.value()) {
+            stfit_core::error::check_walk_gamma(g)?;
+        }
         match (self.orders, self.walks, self.seed) {
             (ScatteringOrders::Single, None, None) => Ok(()),
             (ScatteringOrders::Single, _, _) => Err(FitError::InvalidSpec(
@@ -338,7 +342,17 @@ impl Model {
         )?;
         let mut out = Vec::with_capacity(pairs.len());
         forward.unit_model(&self.ndf()?, self.eta, &mut out)?;
-        out.iter_mut().for_each(|v| *v *= self.scale);
+        for (k, v) in out.iter_mut().enumerate() {
+            let unit = *v;
+            *v *= self.scale;
+            if !v.is_finite() || (unit != 0.0 && *v == 0.0) {
+                return Err(FitError::NotRepresentable(format!(
+                    "point {k}: the model value {unit:e} times the scale {:e} is not a \
+                     representable number",
+                    self.scale
+                )));
+            }
+        }
         Ok(out)
     }
 }

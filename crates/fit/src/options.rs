@@ -100,10 +100,25 @@ impl MultipleTerm {
     }
 }
 
-/// Smallest glass index a free-eta fit reaches.
+/// Smallest glass index of a fit, held or free (inside the core's supported range,
+/// [`stfit_core::error::ETA_MIN`]).
 pub const ETA_MIN: f64 = 1.05;
-/// Largest glass index a free-eta fit reaches.
+/// Largest glass index of a fit, held or free.
 pub const ETA_MAX: f64 = 3.0;
+
+/// Validates the glass index of a fit: in [[`ETA_MIN`], [`ETA_MAX`]].
+pub fn check_fit_eta(eta: f64) -> Result<f64, stfit_core::ParamError> {
+    let eta = check_eta(eta)?;
+    if (ETA_MIN..=ETA_MAX).contains(&eta) {
+        Ok(eta)
+    } else {
+        Err(stfit_core::ParamError::OutOfRange {
+            name: "eta",
+            value: eta,
+            expected: "the glass of a fit has eta in [1.05, 3]",
+        })
+    }
+}
 
 /// Settings shared by every fit in a run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -168,7 +183,7 @@ impl FitOptions {
     /// walk for orders all.
     pub fn check(&self) -> Result<(), FitError> {
         if let Parameter::Fixed(eta) = self.eta {
-            check_eta(eta)?;
+            check_fit_eta(eta)?;
         }
         if let Parameter::Fixed(scale) = self.scale {
             if !(scale.is_finite() && scale > 0.0) {

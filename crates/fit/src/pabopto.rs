@@ -21,7 +21,7 @@ use std::io::Write;
 use std::path::Path;
 
 use crate::conventions::{THETA_RANGE, spherical_from_deg, theta_in_range};
-use crate::data::{Angles, Measurement, Sample};
+use crate::data::{Measurement, Sample};
 use crate::load::{LoadError, LoadErrorKind, parse_finite};
 
 /// How a pab-opto file gives its values.
@@ -251,12 +251,7 @@ pub fn write_pabopto(
     // Files in order of first appearance of (incidence, side).
     let mut files: Vec<((f64, f64, bool), Vec<u8>)> = Vec::new();
     for p in &sample.points {
-        let Angles::Spherical {
-            theta_i_deg,
-            phi_i_deg,
-            theta_o_deg,
-            phi_o_deg,
-        } = p.angles
+        let Some(((theta_i_deg, phi_i_deg), (theta_o_deg, phi_o_deg))) = p.spherical_angles()
         else {
             return Err(std::io::Error::other(
                 "only general samples (spherical angles) can be written as pab-opto files",
@@ -318,6 +313,7 @@ pub fn write_pabopto(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::data::Angles;
 
     fn read(text: &str) -> Result<(String, Vec<Measurement>), LoadError> {
         read_pabopto(Path::new("m.txt"), text.as_bytes())

@@ -51,12 +51,58 @@ pub struct FitResult {
     #[serde(default)]
     pub eta_stderr: Option<f64>,
     pub scale_stderr: Option<f64>,
+    /// Why the fit cannot be trusted as it stands, if it cannot (absent in older files: none).
+    /// A fit with warnings has no standard errors.
+    #[serde(default)]
+    pub warnings: Vec<FitWarning>,
     /// Iterations of the local optimiser, summed over its starts.
     pub iterations: u64,
     /// The data file the sample was read from, as given (`None` for data not from a file).
     pub data: Option<String>,
     /// The version of stfit that made the fit.
     pub stfit_version: String,
+}
+
+/// Why a fit cannot be trusted as it stands. In JSON an object with a `kind` and its details,
+/// such as `{"kind": "at-bound", "parameter": "alpha", "bound": 20.0}` (`fits-format.md`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum FitWarning {
+    /// A parameter ended on a bound of the search: the data want a value outside the searched
+    /// range (or outside the model family).
+    AtBound { parameter: String, bound: f64 },
+    /// The curvature of the loss at the optimum is singular: some parameter, or combination of
+    /// them, is not determined by the data.
+    SingularCurvature,
+    /// Fewer informative points (positive weight, value not zero) than fitted parameters.
+    FewInformativePoints {
+        informative: usize,
+        parameters: usize,
+    },
+}
+
+impl std::fmt::Display for FitWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::AtBound { parameter, bound } => write!(
+                f,
+                "{parameter} ended on the search bound {bound}: the data want a value outside \
+                 the searched range"
+            ),
+            Self::SingularCurvature => f.write_str(
+                "the curvature at the optimum is singular: the data do not determine every \
+                 parameter",
+            ),
+            Self::FewInformativePoints {
+                informative,
+                parameters,
+            } => write!(
+                f,
+                "only {informative} informative points (weight > 0, value not 0) for \
+                 {parameters} fitted parameters"
+            ),
+        }
+    }
 }
 
 /// The value of `eta_fixed` in files written before eta could be fitted.
@@ -68,7 +114,16 @@ impl FitResult {
     /// The fit as named in messages: its sample and model, such as
     /// `sample 'frosted', student-t (gamma = 3)`.
     pub fn label(&self) -> String {
-        format!("sample '{}', {}", self.sample, self.model.label())
+        format!(
+            "sample '{}', {}",
+            crate::data::short(&self.sample),
+            self.model.label()
+        )
+    }
+
+    /// Whether the fit carries warnings (and so no standard errors).
+    pub fn flagged(&self) -> bool {
+        !self.warnings.is_empty()
     }
 }
 

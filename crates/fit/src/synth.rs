@@ -60,8 +60,9 @@ pub enum SynthError {
     TooManyPoints(usize),
     /// The sample name cannot be written as a data row.
     #[error(
-        "sample name {0:?} is not allowed: it must be non-empty, have no control characters \
-         and not start with '#' or whitespace"
+        "sample name '{}' is not allowed: it must be non-empty, have no control characters \
+         and not start with '#' or whitespace",
+        crate::data::short(.0)
     )]
     SampleName(String),
     /// The file to append to cannot be read, or has another header.
@@ -241,9 +242,15 @@ impl SynthSpec {
         let mut points = self.grid.points();
         let values = self.model.predict_points(&points)?;
         let mut rng = Pcg64::seed_from_u64(self.seed);
-        for (p, v) in points.iter_mut().zip(values) {
+        for (k, (p, v)) in points.iter_mut().zip(values).enumerate() {
             let z: f64 = StandardNormal.sample(&mut rng);
             p.value = (v * (1.0 + self.noise * z)).max(0.0);
+            if !p.value.is_finite() {
+                return Err(SynthError::Model(FitError::NotRepresentable(format!(
+                    "point {k}: the value {v:e} with noise {} overflows",
+                    self.noise
+                ))));
+            }
         }
         Ok(Sample {
             name: self.name.clone(),

@@ -42,6 +42,7 @@ fn fit(sample: &Sample, kind: ModelKind, alpha: f64, gamma: Gamma) -> FitResult 
         scale_stderr: None,
         iterations: 0,
         data: None,
+        warnings: Vec::new(),
         stfit_version: "bench".into(),
         eta_fixed: true,
         scale_fixed: false,

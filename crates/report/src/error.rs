@@ -12,17 +12,21 @@ pub enum ReportError {
     #[error("no samples to report")]
     NoSamples,
     /// A sample has no measurements.
-    #[error("sample `{0}` has no measurements")]
+    #[error("sample `{}` has no measurements", stfit_fit::short(.0))]
     EmptySample(String),
     /// A fit names a sample that is not in the data.
-    #[error("fit of model {model} names sample `{sample}`, which is not in the data")]
+    #[error(
+        "fit of model {model} names sample `{}`, which is not in the data",
+        stfit_fit::short(sample)
+    )]
     UnknownSample { sample: String, model: String },
     /// Two fits fill the same panel of one sample.
-    #[error("sample `{sample}` has more than one {model} fit")]
+    #[error("sample `{}` has more than one {model} fit", stfit_fit::short(sample))]
     DuplicateFit { sample: String, model: String },
     /// A fit was made on a different number of points than the data has: stale or foreign fits.
     #[error(
-        "{model} fit of sample `{sample}` was made on {fit_points} points, the data has {data_points}"
+        "{model} fit of sample `{}` was made on {fit_points} points, the data has {data_points}",
+        stfit_fit::short(sample)
     )]
     PointCount {
         sample: String,
@@ -31,14 +35,22 @@ pub enum ReportError {
         data_points: usize,
     },
     /// A fit's parameters do not describe a valid model.
-    #[error("{model} fit of sample `{sample}` is invalid: {reason}")]
+    #[error(
+        "{model} fit of sample `{}` is invalid: {reason}",
+        stfit_fit::short(sample)
+    )]
     InvalidFit {
         sample: String,
         model: String,
         reason: String,
     },
     /// Two samples map to the same file name.
-    #[error("samples `{0}` and `{1}` would be written to the same file `{2}`")]
+    #[error(
+        "samples `{}` and `{}` would be written to the same file `{}`",
+        stfit_fit::short(.0),
+        stfit_fit::short(.1),
+        stfit_fit::short(.2)
+    )]
     FileNameClash(String, String, String),
     /// The embedded font could not be registered with plotters.
     #[error("the embedded DejaVu Sans font could not be registered")]

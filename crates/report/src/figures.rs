@@ -2,6 +2,7 @@
 //! of every sample and model, and the fitted NDFs on a log scale.
 
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -17,17 +18,17 @@ use stfit_core::ndf::AnyNdf;
 
 /// Sizes of one kind of panel.
 #[derive(Debug, Clone, Copy)]
-struct Look {
-    heading: f64,
-    body: f64,
-    tick: f64,
-    title_height: u32,
-    marker: u32,
-    line: u32,
+pub(crate) struct Look {
+    pub(crate) heading: f64,
+    pub(crate) body: f64,
+    pub(crate) tick: f64,
+    pub(crate) title_height: u32,
+    pub(crate) marker: u32,
+    pub(crate) line: u32,
 }
 
 /// Panels of the four-panel figures (800 x 550 px each).
-const LARGE: Look = Look {
+pub(crate) const LARGE: Look = Look {
     heading: 22.0,
     body: 19.0,
     tick: 17.0,
@@ -104,7 +105,7 @@ pub(crate) fn params_text(fit: &stfit_fit::FitResult, with_scale: bool) -> Strin
 }
 
 /// Two-line panel title: bold heading, parameters below.
-fn draw_title<DB: DrawingBackend>(
+pub(crate) fn draw_title<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     heading: &str,
     detail: &str,
@@ -151,6 +152,39 @@ fn markers<'a>(
     })
 }
 
+/// A chart of curves against an angle in degrees on `area`, with the report's mesh (grid lines,
+/// 9 x and 7 y labels, y ticks formatted for the y span), axis descriptions and sizes of `look`.
+pub(crate) fn curve_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+    x_desc: &str,
+    y_desc: &str,
+    look: Look,
+) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>, ReportError> {
+    let mut chart = ChartBuilder::on(area)
+        .margin_right((look.tick * 1.5) as u32)
+        .margin_left(4)
+        .margin_bottom(6)
+        .x_label_area_size((look.tick * 3.2) as u32)
+        .y_label_area_size((look.tick * 4.6) as u32)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    chart
+        .configure_mesh()
+        .bold_line_style(GRID)
+        .light_line_style(TRANSPARENT)
+        .x_labels(9)
+        .y_labels(7)
+        .label_style((FONT, look.tick))
+        .axis_desc_style((FONT, look.body))
+        .x_label_formatter(&|v| format!("{v:.0}"))
+        .y_label_formatter(&|v| fmt_tick(*v, y1 - y0))
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .draw()?;
+    Ok(chart)
+}
+
 #[allow(clippy::too_many_arguments)]
 fn draw_fit_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
@@ -179,26 +213,14 @@ fn draw_fit_panel<DB: DrawingBackend>(
             (a, b, format!("{0} measured − {0} model", y_scale.label()))
         }
     };
-    let mut chart = ChartBuilder::on(&plot_area)
-        .margin_right((look.tick * 1.5) as u32)
-        .margin_left(4)
-        .margin_bottom(6)
-        .x_label_area_size((look.tick * 3.2) as u32)
-        .y_label_area_size((look.tick * 4.6) as u32)
-        .build_cartesian_2d(x0..x1, y0..y1)?;
-    chart
-        .configure_mesh()
-        .bold_line_style(GRID)
-        .light_line_style(TRANSPARENT)
-        .x_labels(9)
-        .y_labels(7)
-        .label_style((FONT, look.tick))
-        .axis_desc_style((FONT, look.body))
-        .x_label_formatter(&|v| format!("{v:.0}"))
-        .y_label_formatter(&|v| fmt_tick(*v, y1 - y0))
-        .x_desc("θo (degrees)")
-        .y_desc(y_desc)
-        .draw()?;
+    let mut chart = curve_chart(
+        &plot_area,
+        (x0, x1),
+        (y0, y1),
+        "θo (degrees)",
+        &y_desc,
+        look,
+    )?;
 
     if let PanelKind::Residual = kind {
         chart.draw_series(LineSeries::new(

@@ -14,13 +14,11 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use stfit_core::ndf::AnyNdf;
-use stfit_fit::{Angles, FitResult, Measurement, Sample};
+use stfit_fit::{FitResult, Measurement, Sample};
 
-use crate::figures::fmt_tick;
-use crate::render::{FONT, Figure};
-use crate::style::{
-    AnglePalette, GREY, GRID, Glyph, LegendEntry, bold, draw_header, fmt_deg, text,
-};
+use crate::figures::{LARGE, curve_chart, draw_title, fmt_tick};
+use crate::render::Figure;
+use crate::style::{AnglePalette, GREY, Glyph, LegendEntry, bold, draw_header, fmt_deg, text};
 use crate::view::{ModelSlot, sample_title};
 use crate::{ReportError, YScale};
 
@@ -116,12 +114,7 @@ impl<'a> GeneralView<'a> {
         // The measured points of each incidence, in the sample's own order.
         let mut members: Vec<Vec<&Measurement>> = Vec::new();
         for p in &sample.points {
-            let Angles::Spherical {
-                theta_i_deg,
-                phi_i_deg,
-                theta_o_deg,
-                phi_o_deg,
-            } = p.angles
+            let Some(((theta_i_deg, phi_i_deg), (theta_o_deg, phi_o_deg))) = p.spherical_angles()
             else {
                 continue;
             };
@@ -300,46 +293,25 @@ impl PlaneFigure<'_> {
         top: f64,
     ) -> Result<(), ReportError> {
         let panel = self.view.panels[slot.index()].as_ref();
-        let (title_area, plot_area) = area.split_vertically(64);
-        let (w, h) = title_area.dim_in_pixel();
-        title_area.draw_text(
-            slot.title(),
-            &bold(22.0).pos(Pos::new(HPos::Center, VPos::Center)),
-            (w as i32 / 2, h as i32 / 3),
-        )?;
+        let (title_area, plot_area) = area.split_vertically(LARGE.title_height);
         let detail = panel.map_or_else(
             || "not fitted".to_string(),
             |p| crate::figures::params_text(p.fit, true),
         );
-        title_area.draw_text(
-            &detail,
-            &text(19.0).pos(Pos::new(HPos::Center, VPos::Center)),
-            (w as i32 / 2, 3 * h as i32 / 4),
-        )?;
+        draw_title(&title_area, slot.title(), &detail, LARGE)?;
         let y1 = if top > 0.0 { top * 1.05 } else { 1.0 };
-        let mut chart = ChartBuilder::on(&plot_area)
-            .margin_right(26)
-            .margin_left(4)
-            .margin_bottom(6)
-            .x_label_area_size(54)
-            .y_label_area_size(78)
-            .build_cartesian_2d(-180.0..180.0, 0.0..y1)?;
-        chart
-            .configure_mesh()
-            .bold_line_style(GRID)
-            .light_line_style(TRANSPARENT)
-            .x_labels(9)
-            .y_labels(7)
-            .label_style((FONT, 17.0))
-            .axis_desc_style((FONT, 19.0))
-            .x_label_formatter(&|v| format!("{v:.0}"))
-            .y_label_formatter(&|v| fmt_tick(*v, y1))
-            .x_desc("signed θo in the plane of incidence (degrees)")
-            .y_desc(match self.y_scale {
-                YScale::Sqrt => "√BSDF",
-                YScale::Linear => "BSDF",
-            })
-            .draw()?;
+        let y_desc = match self.y_scale {
+            YScale::Sqrt => "√BSDF",
+            YScale::Linear => "BSDF",
+        };
+        let mut chart = curve_chart(
+            &plot_area,
+            (-180.0, 180.0),
+            (0.0, y1),
+            "signed θo in the plane of incidence (degrees)",
+            y_desc,
+            LARGE,
+        )?;
         for x in [-90.0, 90.0] {
             chart.draw_series(LineSeries::new([(x, 0.0), (x, y1)], GREY.stroke_width(1)))?;
         }

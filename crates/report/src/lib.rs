@@ -35,7 +35,7 @@ use stfit_fit::{Dataset, FitResult};
 pub use error::ReportError;
 pub use figures::{clip_below, fmt_tick};
 pub use style::fmt_sig;
-pub use table::{fits_markdown, fits_table};
+pub use table::{fits_markdown, fits_table, warning_codes};
 pub use view::ModelSlot;
 
 use figures::{NdfFigure, OverviewFigure, SampleFigure};
@@ -262,11 +262,14 @@ pub fn render_report(
     for (title, checks) in &rmse_checks {
         for &(fit, recomputed) in checks {
             let stored = fit.rmse_sqrt_l;
-            if (recomputed - stored).abs() > RMSE_TOLERANCE * stored.abs().max(1e-3) {
+            // A NaN on either side warns too.
+            let gap = (recomputed - stored).abs();
+            if gap.is_nan() || gap > RMSE_TOLERANCE * stored.abs().max(1e-3) {
                 warnings.push(format!(
-                    "sample `{title}`, {}: the stored rmse of the square root of the data is {} \
+                    "sample `{}`, {}: the stored rmse of the square root of the data is {} \
                      but the data and the fitted model ({}, eta {}) give {}; the fit may come \
                      from other data",
+                    stfit_fit::short(title),
                     ModelSlot::of(fit).title(),
                     fmt_sig(stored, 6),
                     model_description(&fit.model),

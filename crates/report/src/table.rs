@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use stfit_fit::{FitResult, Gamma, Measured};
+use stfit_fit::{FitResult, FitWarning, Gamma, Measured};
 
 use crate::style::fmt_sig;
 use crate::view::ModelSlot;
@@ -76,11 +76,27 @@ fn sample_cell(name: &str) -> String {
         .collect()
 }
 
+/// A fit's warnings as short codes for a table cell: `at-bound(alpha)`, `singular`,
+/// `few-points`, comma-separated; empty for an unflagged fit.
+pub fn warning_codes(fit: &FitResult) -> String {
+    fit.warnings
+        .iter()
+        .map(|w| match w {
+            FitWarning::AtBound { parameter, .. } => format!("at-bound({parameter})"),
+            FitWarning::SingularCurvature => "singular".to_string(),
+            FitWarning::FewInformativePoints { .. } => "few-points".to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
 /// The readable text table of fits, one row per sample and model, columns aligned: sample,
 /// model, alpha, gamma, eta (when any fit fitted it), scale (each with its standard error, or
 /// marked fixed), the rmse of the square root of what was measured (`sqrt(L)` or
-/// `sqrt(BSDF)`) and the number of points.
+/// `sqrt(BSDF)`) and the number of points; when any fit is flagged, a last column `warnings`
+/// with its [`warning_codes`] (and `-` for the others).
 pub fn fits_table(fits: &[FitResult]) -> String {
+    let flagged = fits.iter().any(FitResult::flagged);
     // An eta column when any fit fitted it.
     let eta = fits.iter().any(|f| !f.eta_fixed);
     let mut header: Vec<String> = ["sample", "model", "alpha", "gamma"]
@@ -90,6 +106,9 @@ pub fn fits_table(fits: &[FitResult]) -> String {
         header.push("eta".into());
     }
     header.extend(["scale".to_string(), rmse_header(fits), "n".to_string()]);
+    if flagged {
+        header.push("warnings".into());
+    }
     let rows: Vec<Vec<String>> = fits
         .iter()
         .map(|f| {
@@ -107,6 +126,10 @@ pub fn fits_table(fits: &[FitResult]) -> String {
                 fmt_sig(f.rmse_sqrt_l, 4),
                 f.n_points.to_string(),
             ]);
+            if flagged {
+                let codes = warning_codes(f);
+                row.push(if codes.is_empty() { "-".into() } else { codes });
+            }
             row
         })
         .collect();
@@ -116,6 +139,7 @@ pub fn fits_table(fits: &[FitResult]) -> String {
             *w = (*w).max(cell.chars().count());
         }
     }
+    let count = header.iter().position(|h| h == "n").unwrap_or(0);
     let mut text = String::new();
     for row in std::iter::once(&header).chain(&rows) {
         let mut line = String::new();
@@ -124,7 +148,7 @@ pub fn fits_table(fits: &[FitResult]) -> String {
                 line.push_str("  ");
             }
             // The count column is right-aligned, the others left-aligned.
-            if i == row.len() - 1 {
+            if i == count {
                 let _ = write!(line, "{cell:>w$}");
             } else {
                 let _ = write!(line, "{cell:<w$}");
@@ -172,7 +196,8 @@ pub fn fits_markdown(
         md,
         "{model}, each fit with the model it was fitted with. {} is over the points of \
          weight > 0 (the fitted points); ± gives standard errors; the lowest rmse of each sample \
-         is in bold. Figures of in-plane data plot {}.\n",
+         is in bold; ⚠ marks a fit that cannot be trusted as it stands (see Warnings). Figures \
+         of in-plane data plot {}.\n",
         rmse_header,
         match opts.y_scale {
             YScale::Sqrt => "sqrt(L)",
@@ -202,7 +227,11 @@ pub fn fits_markdown(
                 md,
                 "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 sample_cell(name).replace('|', "\\|"),
-                ModelSlot::of(fit).title(),
+                if fit.flagged() {
+                    format!("⚠ {}", ModelSlot::of(fit).title())
+                } else {
+                    ModelSlot::of(fit).title().to_string()
+                },
                 model_description(&fit.model),
                 with_error(fit.model.alpha, fit.alpha_stderr, 4),
                 gamma_cell(fit, 4),
@@ -212,6 +241,19 @@ pub fn fits_markdown(
                 fit.n_points,
                 fit.iterations
             );
+        }
+    }
+    let flagged: Vec<&FitResult> = all().filter(|f| f.flagged()).collect();
+    if !flagged.is_empty() {
+        md.push_str("\n## Warnings\n\n");
+        for fit in flagged {
+            for w in &fit.warnings {
+                let _ = writeln!(
+                    md,
+                    "- {}: {w}",
+                    sample_cell(&fit.label()).replace('|', "\\|")
+                );
+            }
         }
     }
     md.push_str("\n## Figures\n\n");
@@ -247,6 +289,7 @@ mod tests {
             scale_stderr: None,
             iterations: 42,
             data: None,
+            warnings: Vec::new(),
             stfit_version: "0".into(),
             eta_fixed: true,
             scale_fixed: false,

@@ -87,6 +87,7 @@ fn fit(sample: &Sample, mut p: Model, gamma_fixed: bool) -> FitResult {
         scale_stderr: Some(0.004),
         iterations: 42,
         data: None,
+        warnings: Vec::new(),
         stfit_version: "test".into(),
         eta_fixed: true,
         scale_fixed: false,

@@ -1,29 +1,14 @@
 //! A smooth conductor: one Dirac delta lobe.
 
 use super::{AnalyticBsdf, Bsdf, BsdfSample, fresnel_conductor};
-use crate::error::{ParamError, finite};
+use crate::error::ParamError;
 use crate::math::Vec3;
 use nalgebra::Complex;
 use rand::Rng;
 
-/// Validates a conductor's complex index `n + i k`: finite, `n > 0`, `k >= 0`.
+/// Validates a conductor's complex index `n + i k` ([`crate::error::check_conductor`]).
 pub(crate) fn check_conductor_index(n: f64, k: f64) -> Result<Complex<f64>, ParamError> {
-    let n = finite("n", n)?;
-    let k = finite("k", k)?;
-    if n <= 0.0 {
-        return Err(ParamError::OutOfRange {
-            name: "n",
-            value: n,
-            expected: "n > 0",
-        });
-    }
-    if k < 0.0 {
-        return Err(ParamError::OutOfRange {
-            name: "k",
-            value: k,
-            expected: "k >= 0",
-        });
-    }
+    let (n, k) = crate::error::check_conductor(n, k)?;
     Ok(Complex::new(n, k))
 }
 

@@ -1,5 +1,6 @@
 //! The Student-T NDF of Ribardiere et al. 2017 in d'Eon's (alpha, gamma) parameterisation.
 
+use super::Beckmann;
 use super::beckmann::{open_uniform, sample_visible_beckmann, sample_visible_beckmann_in_frame};
 use super::special::{FRAC_1_SQRT_PI, erfc_and_gauss, erfcx_gap};
 use super::{Ndf, cos2_sin2, lambda_on_sphere};
@@ -12,7 +13,11 @@ use std::f64::consts::{FRAC_1_SQRT_2, PI};
 
 /// Student-T: `D(u) = (g-1)^g alpha^(2g-2) / (pi u^4 (alpha^2 (g-1) + tan^2 theta)^g)` with
 /// shape `g = gamma > 3/2`. Slopes along one axis are `(alpha/sqrt 2) T_nu`, `nu = 2g - 2`.
-/// `gamma = 2` is GGX; `gamma -> inf` tends to Beckmann with the same alpha.
+/// `gamma = 2` is GGX; `gamma -> inf` tends to Beckmann with the same alpha, within a relative
+/// `O(x^2 / gamma)` (`x = tan^2 theta / alpha^2`): above [`StudentT::BECKMANN_LIMIT`] (1e8),
+/// where that is below 5e-6 for every normal that matters, D, Lambda, sigma and the sampler
+/// are Beckmann's. Below it, the logarithms are `log1p` for gamma > 1e3 and the ratios of Gamma
+/// functions asymptotic for large arguments, so that no digit is lost on the way to the limit.
 ///
 /// ```
 /// use stfit_core::ndf::{Ggx, Ndf, StudentT};
@@ -57,20 +62,44 @@ pub struct StudentT {
     /// `Gamma(g-3/2 (+1 if g-3/2 < 1), 1)`: part 1, boosted to shape >= 1 so that tiny `m`
     /// can be drawn in log space.
     part1: Gamma<f64>,
+    /// gamma > 1e3: `ln(1 + x)` by `log1p`, whose rounding is not multiplied by gamma.
+    exact_log: bool,
+    /// The Beckmann limit, for gamma above [`StudentT::BECKMANN_LIMIT`].
+    limit: Option<Beckmann>,
+}
+
+/// `ln(Gamma(a + 1/2) / Gamma(a))` for `a > 0`, to a relative 1e-15: the asymptotic series
+/// `ln(a)/2 - 1/(8a) + 1/(192 a^3) - 1/(640 a^5)` for `a >= 1e3` (where the difference of two
+/// `ln_gamma` of size `a ln a` would cancel most digits), the difference below.
+fn ln_gamma_half_ratio(a: f64) -> f64 {
+    if a >= 1e3 {
+        let r = 1.0 / a;
+        let r2 = r * r;
+        0.5 * a.ln() - r * (0.125 - r2 * (1.0 / 192.0 - r2 / 640.0))
+    } else {
+        ln_gamma(a + 0.5) - ln_gamma(a)
+    }
 }
 
 impl StudentT {
-    /// A Student-T NDF with roughness `alpha > 0` and shape `gamma > 3/2` (finite; typed errors
-    /// otherwise).
+    /// Above this shape Student-T is evaluated and sampled as its Beckmann limit: they differ
+    /// by a relative `x^2 / (2 gamma)` < 5e-6 wherever `D` exceeds `e^-30` of its peak (and
+    /// Lambda by less than 1e-6 for `cot / alpha <= 4`), while the incomplete-beta continued
+    /// fraction of Lambda stops converging in its iteration cap from about 1e8.
+    pub const BECKMANN_LIMIT: f64 = 1e8;
+
+    /// A Student-T NDF with roughness `alpha` and shape `gamma` in their supported ranges
+    /// ([`check_alpha`], [`check_gamma`]; typed errors otherwise).
     pub fn new(alpha: f64, gamma: f64) -> Result<Self, ParamError> {
         let alpha = check_alpha(alpha)?;
         let gamma = check_gamma(gamma)?;
         let nu = 2.0 * gamma - 2.0;
-        let t_norm = (ln_gamma(0.5 * (nu + 1.0)) - ln_gamma(0.5 * nu)).exp() / (nu * PI).sqrt();
         let g1 = gamma - 1.0;
+        // f_nu(0) = Gamma(g - 1/2) / (sqrt(nu pi) Gamma(g - 1)).
+        let t_norm = ln_gamma_half_ratio(g1).exp() / (nu * PI).sqrt();
         let shape1 = gamma - 1.5;
         let w1_scale =
-            alpha * g1.sqrt() * 0.5 * FRAC_1_SQRT_PI * (ln_gamma(shape1) - ln_gamma(g1)).exp();
+            alpha * g1.sqrt() * 0.5 * FRAC_1_SQRT_PI * (-ln_gamma_half_ratio(shape1)).exp();
         let boosted = if shape1 < 1.0 { shape1 + 1.0 } else { shape1 };
         let param = |name, value| ParamError::OutOfRange {
             name,
@@ -91,7 +120,24 @@ impl StudentT {
             w1_scale,
             mix: Gamma::new(g1, 1.0).map_err(|_| param("gamma", gamma))?,
             part1: Gamma::new(boosted, 1.0).map_err(|_| param("gamma", gamma))?,
+            exact_log: gamma > 1e3,
+            limit: if gamma > Self::BECKMANN_LIMIT {
+                Some(Beckmann::new(alpha)?)
+            } else {
+                None
+            },
         })
+    }
+
+    /// `ln(1 + x)`: the plain logarithm of the rounded sum (absolute error 1e-16, fast) while
+    /// gamma times that error is negligible, `log1p` above.
+    #[inline]
+    fn ln_1p(&self, x: f64) -> f64 {
+        if self.exact_log {
+            x.ln_1p()
+        } else {
+            (1.0 + x).ln()
+        }
     }
 
     /// The roughness alpha.
@@ -120,7 +166,7 @@ impl StudentT {
         // The power is only exponentiated: ln of the rounded 1 + q (absolute error 1e-16, so
         // a relative (nu + 1)/2 * 1e-16 in f) is as good as log1p here, and several times
         // faster in glibc.
-        let f = self.t_norm * (-0.5 * (nu + 1.0) * (1.0 + q).ln()).exp();
+        let f = self.t_norm * (-0.5 * (nu + 1.0) * self.ln_1p(q)).exp();
         let a = 0.5 * nu;
         let x = 1.0 / (1.0 + q);
         // The continued fraction of I_(1-x)(1/2, a) terminates after `a` steps when
@@ -193,16 +239,22 @@ impl Ndf for StudentT {
     /// that `cos^-4` cannot overflow at grazing normals (where D diverges like
     /// `cos^(2g-4)` for g < 2).
     fn d(&self, wm: Vec3) -> f64 {
+        if let Some(b) = &self.limit {
+            return b.d(wm);
+        }
         let Some((u2, sin2)) = cos2_sin2(wm) else {
             return 0.0;
         };
-        // ln of the rounded 1 + tan^2/((g-1) alpha^2) costs a relative g * 1e-16 in D, as
-        // log1p would, at a fraction of its time.
-        self.d_scale * (-2.0 * u2.ln() - self.gamma * (1.0 + sin2 / u2 * self.inv_a2g1).ln()).exp()
+        // ln of the rounded 1 + tan^2/((g-1) alpha^2) costs a relative g * 1e-16 in D: as
+        // good as log1p, at a fraction of its time, for gamma <= 1e3 (`Self::ln_1p`).
+        self.d_scale * (-2.0 * u2.ln() - self.gamma * self.ln_1p(sin2 / u2 * self.inv_a2g1)).exp()
     }
 
     /// Closed form with the regularised incomplete beta function (theory section 3).
     fn lambda(&self, w: Vec3) -> f64 {
+        if let Some(b) = &self.limit {
+            return b.lambda(w);
+        }
         lambda_on_sphere(w, |c, s2| {
             // Lambda = (s/mu) excess(mu/s) = excess(k) / k with k = c / (s sin), k and 1/k
             // from one division.
@@ -215,6 +267,9 @@ impl Ndf for StudentT {
     /// `c + sin * s * excess(|mu| / s)` above the horizon, `sin * s * excess(|mu| / s)` below,
     /// with `s = alpha / sqrt 2`; no cancellation on either side.
     fn sigma(&self, w: Vec3) -> f64 {
+        if let Some(b) = &self.limit {
+            return b.sigma(w);
+        }
         let (c, sin) = crate::math::cos_sin_theta(w);
         if sin == 0.0 {
             return c.max(0.0);
@@ -233,6 +288,9 @@ impl Ndf for StudentT {
     /// plus `Gamma(g-1)` thinned by `(1 + erf(a))/2` (weight `c`); below it, part 1 thinned by
     /// `1 - sqrt(pi) a erfcx(a)`.
     fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3 {
+        if let Some(b) = &self.limit {
+            return b.sample_visible(w, rng);
+        }
         let c = w.z;
         let sin = (w.x * w.x + w.y * w.y).sqrt();
         if sin == 0.0 && c <= 0.0 {
@@ -242,8 +300,8 @@ impl Ndf for StudentT {
         let cot = c * inv_sin;
         let k = cot * cot * self.inv_a2g1;
         // ln(1 + k) is only ever exponentiated (times at most gamma), so the absolute error
-        // 1e-16 of the plain logarithm is as good as log1p's relative one here.
-        let ln_1p_k = (1.0 + k).ln();
+        // 1e-16 of the plain logarithm is as good as log1p's relative one for gamma <= 1e3.
+        let ln_1p_k = self.ln_1p(k);
         let w1 = sin * self.w1_scale * (-(self.gamma - 1.5) * ln_1p_k).exp();
         let sqrt_m = loop {
             if c >= 0.0 {

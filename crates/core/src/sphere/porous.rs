@@ -17,14 +17,15 @@ pub struct Porous<N> {
 }
 
 impl<N: SphereNdf> Porous<N> {
-    /// Blends `base` with the uniform sphere at porosity `P` (finite, in [0, 1]).
+    /// Blends `base` with the uniform sphere at porosity `P` in [0, 1] (a random walk needs
+    /// `P <= 0.99`: at 1 no facet area faces up on average and walks never end).
     pub fn new(base: N, porosity: f64) -> Result<Self, ParamError> {
         let porosity = finite("porosity", porosity)?;
         if !(0.0..=1.0).contains(&porosity) {
             return Err(ParamError::OutOfRange {
                 name: "porosity",
                 value: porosity,
-                expected: "0 <= porosity <= 1",
+                expected: "porosity must be in [0, 1]",
             });
         }
         let area = total_area(|u| base.d_cos(u), base.angular_width());

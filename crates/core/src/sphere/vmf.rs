@@ -16,14 +16,16 @@ pub struct VonMisesFisher {
 }
 
 impl VonMisesFisher {
-    /// A vMF NDF with concentration `kappa` (finite, > 0; up to about 1e6).
+    /// A vMF NDF with concentration `kappa` in [0.1, 1e4]: below, `D` (normalised by
+    /// projected area) grows like `1/kappa` and walks lengthen; above, the null walk's majorant
+    /// makes walks crawl.
     pub fn new(kappa: f64) -> Result<Self, ParamError> {
         let kappa = finite("kappa", kappa)?;
-        if !(kappa > 0.0 && kappa <= 1e6) {
+        if !(0.1..=1e4).contains(&kappa) {
             return Err(ParamError::OutOfRange {
                 name: "kappa",
                 value: kappa,
-                expected: "0 < kappa <= 1e6",
+                expected: "kappa must be in [0.1, 1e4]",
             });
         }
         let one_minus = -(-2.0 * kappa).exp_m1();

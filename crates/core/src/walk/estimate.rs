@@ -19,7 +19,8 @@ pub const CHUNK: u64 = 2048;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Estimate {
     pub mean: f64,
-    /// Standard error of `mean` (sample standard deviation over `sqrt(n)`).
+    /// Standard error of `mean` (sample standard deviation over `sqrt(n)`); undefined (0)
+    /// for fewer than 2 walks: report it through [`defined_stderr`].
     pub stderr: f64,
 }
 
@@ -39,6 +40,12 @@ pub fn chunk_walks(walks: u64) -> Vec<u64> {
     (0..walks.div_ceil(CHUNK))
         .map(|c| chunk_len(walks, c))
         .collect()
+}
+
+/// A standard error as it may be reported: `None` for fewer than 2 walks, where the sample
+/// variance (and so the error) is undefined, never a "± 0".
+pub fn defined_stderr(walks: u64, stderr: f64) -> Option<f64> {
+    (walks >= 2 && stderr.is_finite()).then_some(stderr)
 }
 
 /// Fractions of the incident flux leaving on the side of the light (reflectance) and on the

@@ -250,13 +250,13 @@ impl ConductorFacet {
     }
 
     /// A smooth conductor with the exact unpolarised Fresnel reflectance of the complex index
-    /// `n + i k` (finite, `n > 0`, `k >= 0`).
+    /// `n + i k` in the supported range ([`crate::error::check_conductor`]).
     pub fn fresnel(n: f64, k: f64) -> Result<Self, ParamError> {
         Ok(Self {
-            reflectance: Reflectance::Fresnel(Complex::new(
-                check_positive("n", n)?,
-                check_non_negative("k", k)?,
-            )),
+            reflectance: {
+                let (n, k) = crate::error::check_conductor(n, k)?;
+                Reflectance::Fresnel(Complex::new(n, k))
+            },
         })
     }
 
@@ -438,34 +438,6 @@ impl<M: Ndf, F: Facet> Facet for Microsurface<M, F> {
             Some((fr, w)) => w * self.pdf(fr.to_local(vis.wi()), fr.to_local(wo), rng),
             None => 0.0,
         }
-    }
-}
-
-/// Validates a finite quantity > 0.
-fn check_positive(name: &'static str, value: f64) -> Result<f64, ParamError> {
-    let value = finite(name, value)?;
-    if value > 0.0 {
-        Ok(value)
-    } else {
-        Err(ParamError::OutOfRange {
-            name,
-            value,
-            expected: "> 0",
-        })
-    }
-}
-
-/// Validates a finite quantity >= 0.
-fn check_non_negative(name: &'static str, value: f64) -> Result<f64, ParamError> {
-    let value = finite(name, value)?;
-    if value >= 0.0 {
-        Ok(value)
-    } else {
-        Err(ParamError::OutOfRange {
-            name,
-            value,
-            expected: ">= 0",
-        })
     }
 }
 

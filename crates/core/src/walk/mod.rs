@@ -49,8 +49,8 @@ mod null;
 
 pub use engine::{WalkEnd, WalkSample};
 pub use estimate::{
-    AlbedoEstimate, Batched, CHUNK, Estimate, Estimator, PairEstimate, chunk_walks, direction_seed,
-    eval_pairs, eval_pairs_batched,
+    AlbedoEstimate, Batched, CHUNK, Estimate, Estimator, PairEstimate, chunk_walks, defined_stderr,
+    direction_seed, eval_pairs, eval_pairs_batched,
 };
 pub use facet::{
     BsdfFacet, ConductorFacet, DielectricFacet, Facet, FacetSample, HeightFieldHit,

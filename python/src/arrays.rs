@@ -1,0 +1,163 @@
+//! NumPy arrays of directions in, arrays of values out, and the parallel loops over them.
+//!
+//! A batch of directions is any array-like of shape `(..., 3)` (one direction per row of the
+//! last axis), converted to contiguous `float64` without a copy when it already is one. Values
+//! come back with the leading shape (a Python float for a single direction). Every direction
+//! must be a unit vector (|norm - 1| <= [`UNIT_TOLERANCE`]), the library's precondition.
+
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyFloat};
+use rayon::prelude::*;
+use stfit_core::Vec3;
+use stfit_fit::pairs::UNIT_TOLERANCE;
+
+/// Rows per parallel task (and per random-number stream of the samplers): batches shorter
+/// than this run on the calling thread.
+pub const ROWS_PER_TASK: usize = 4096;
+
+/// A batch of directions borrowed from a NumPy array.
+pub struct Dirs<'py> {
+    array: PyReadonlyArrayDyn<'py, f64>,
+    /// The shape without its last axis (empty for a single direction).
+    pub shape: Vec<usize>,
+}
+
+impl<'py> Dirs<'py> {
+    /// The batch in `obj`, named `name` in errors.
+    pub fn new(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<Self> {
+        let py = obj.py();
+        let np = py.import("numpy")?;
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("dtype", np.getattr("float64")?)?;
+        let converted = np
+            .getattr("ascontiguousarray")?
+            .call((obj,), Some(&kwargs))
+            .map_err(|e| PyValueError::new_err(format!("{name}: not an array of numbers: {e}")))?;
+        let array: PyReadonlyArrayDyn<'py, f64> = converted.extract()?;
+        let full = array.shape().to_vec();
+        if full.last() != Some(&3) {
+            return Err(PyValueError::new_err(format!(
+                "{name}: expected directions of shape (..., 3), got shape {full:?}"
+            )));
+        }
+        let shape = full[..full.len() - 1].to_vec();
+        Ok(Self { array, shape })
+    }
+
+    /// The coordinates, three per direction.
+    pub fn flat(&self) -> PyResult<&[f64]> {
+        Ok(self.array.as_slice()?)
+    }
+
+    /// The number of directions.
+    pub fn len(&self) -> usize {
+        self.shape.iter().product()
+    }
+}
+
+/// Direction `k` of a flat coordinate slice.
+#[inline]
+pub fn dir(flat: &[f64], k: usize) -> Vec3 {
+    Vec3::new(flat[3 * k], flat[3 * k + 1], flat[3 * k + 2])
+}
+
+/// The first direction of `flat` that is not a unit vector, as a `ValueError` naming `name`
+/// and the row (run with the GIL released).
+pub fn check_unit(flat: &[f64], name: &str) -> PyResult<()> {
+    let bad = flat.par_chunks(3).position_first(|c| {
+        let norm = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+        norm.is_nan() || (norm - 1.0).abs() > UNIT_TOLERANCE
+    });
+    match bad {
+        None => Ok(()),
+        Some(k) => {
+            let c = &flat[3 * k..3 * k + 3];
+            let norm = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+            Err(PyValueError::new_err(format!(
+                "{name}[{k}] = [{}, {}, {}] is not a unit vector (norm {norm}); directions \
+                 must have |norm - 1| <= {UNIT_TOLERANCE:e}",
+                c[0], c[1], c[2]
+            )))
+        }
+    }
+}
+
+/// Two batches paired row by row: equal shapes, or one a single direction paired with every
+/// row of the other. Returns the index maps and the result shape.
+pub struct Pairing {
+    pub shape: Vec<usize>,
+    pub n: usize,
+    a_single: bool,
+    b_single: bool,
+}
+
+impl Pairing {
+    pub fn new(a: &Dirs<'_>, b: &Dirs<'_>, names: (&str, &str)) -> PyResult<Self> {
+        let (a_single, b_single) = (a.shape.is_empty(), b.shape.is_empty());
+        let shape = if a.shape == b.shape || b_single {
+            a.shape.clone()
+        } else if a_single {
+            b.shape.clone()
+        } else {
+            return Err(PyValueError::new_err(format!(
+                "{} and {} must have the same shape, or one be a single direction: got {:?} and \
+                 {:?} (each with a last axis of 3)",
+                names.0, names.1, a.shape, b.shape
+            )));
+        };
+        let n = shape.iter().product();
+        Ok(Self {
+            shape,
+            n,
+            a_single,
+            b_single,
+        })
+    }
+
+    /// The pair of row `k`.
+    #[inline]
+    pub fn pair(&self, a: &[f64], b: &[f64], k: usize) -> (Vec3, Vec3) {
+        (
+            dir(a, if self.a_single { 0 } else { k }),
+            dir(b, if self.b_single { 0 } else { k }),
+        )
+    }
+}
+
+/// `f(k)` for every row `k < n`, in parallel for large batches.
+pub fn map_rows(n: usize, f: impl Fn(usize) -> f64 + Send + Sync) -> Vec<f64> {
+    (0..n)
+        .into_par_iter()
+        .with_min_len(ROWS_PER_TASK)
+        .map(f)
+        .collect()
+}
+
+/// Values with the given leading shape: a float for a single direction, else an array.
+pub fn values<'py>(py: Python<'py>, v: Vec<f64>, shape: &[usize]) -> PyResult<Bound<'py, PyAny>> {
+    if shape.is_empty() {
+        return Ok(PyFloat::new(py, v[0]).into_any());
+    }
+    Ok(PyArray1::from_vec(py, v)
+        .reshape(shape.to_vec())?
+        .into_any())
+}
+
+/// Directions (three coordinates per row) with the given leading shape.
+pub fn vectors<'py>(py: Python<'py>, v: Vec<f64>, shape: &[usize]) -> PyResult<Bound<'py, PyAny>> {
+    let mut full = shape.to_vec();
+    full.push(3);
+    Ok(PyArray1::from_vec(py, v).reshape(full)?.into_any())
+}
+
+/// Booleans with the given leading shape.
+pub fn flags<'py>(py: Python<'py>, v: Vec<bool>, shape: &[usize]) -> PyResult<Bound<'py, PyAny>> {
+    if shape.is_empty() {
+        return Ok(pyo3::types::PyBool::new(py, v[0]).to_owned().into_any());
+    }
+    Ok(PyArray1::from_vec(py, v)
+        .reshape(shape.to_vec())?
+        .into_any())
+}

@@ -1,0 +1,167 @@
+//! `stfit.RoughDielectric`: the single-scattering rough dielectric of Walter et al. 2007
+//! (`stfit_core::bsdf::RoughDielectric`), evaluated, sampled and its density computed over
+//! batches of direction pairs.
+
+use pyo3::prelude::*;
+use rayon::prelude::*;
+use stfit_core::Vec3;
+use stfit_core::bsdf::{AnalyticBsdf, Bsdf, Masking, RoughDielectric};
+use stfit_core::ndf::AnyNdf;
+
+use crate::arrays::{
+    Dirs, Pairing, ROWS_PER_TASK, check_unit, dir, flags, map_rows, values, vectors,
+};
+use crate::errors::{arg_error, value_error};
+use crate::ndf::{any_ndf, ndf_object, stream};
+
+/// Parses a masking name, `separable` or `correlated`.
+pub fn masking(name: &str) -> PyResult<Masking> {
+    name.parse().map_err(|e| arg_error("masking", e))
+}
+
+#[pyclass(name = "RoughDielectric", module = "stfit", frozen)]
+pub struct PyRoughDielectric(RoughDielectric<AnyNdf>);
+
+/// `f(bsdf, wi, wo)` over paired batches, with the GIL released.
+fn binary<'py>(
+    bsdf: &RoughDielectric<AnyNdf>,
+    wi: &Bound<'py, PyAny>,
+    wo: &Bound<'py, PyAny>,
+    f: fn(&RoughDielectric<AnyNdf>, Vec3, Vec3) -> f64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let py = wi.py();
+    let (wi, wo) = (Dirs::new(wi, "wi")?, Dirs::new(wo, "wo")?);
+    let pairing = Pairing::new(&wi, &wo, ("wi", "wo"))?;
+    let (a, b) = (wi.flat()?, wo.flat()?);
+    let out = py.detach(|| {
+        check_unit(a, "wi")?;
+        check_unit(b, "wo")?;
+        Ok::<_, PyErr>(map_rows(pairing.n, |k| {
+            let (i, o) = pairing.pair(a, b, k);
+            f(bsdf, i, o)
+        }))
+    })?;
+    values(py, out, &pairing.shape)
+}
+
+#[pymethods]
+impl PyRoughDielectric {
+    #[new]
+    #[pyo3(signature = (ndf, eta, masking = "separable"))]
+    fn new(ndf: &Bound<'_, PyAny>, eta: f64, masking: &str) -> PyResult<Self> {
+        RoughDielectric::new(any_ndf(ndf)?, eta, self::masking(masking)?)
+            .map(Self)
+            .map_err(value_error)
+    }
+
+    /// The microfacet distribution.
+    #[getter]
+    fn ndf<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        ndf_object(py, *self.0.ndf())
+    }
+
+    /// The relative index of refraction `n_inside / n_outside`.
+    #[getter]
+    fn eta(&self) -> f64 {
+        self.0.eta()
+    }
+
+    /// `separable` or `correlated`.
+    #[getter]
+    fn masking(&self) -> &'static str {
+        self.0.masking().name()
+    }
+
+    /// `f(wi, wo) |wo.z|`, reflection or transmission by the sides of `wi` and `wo`.
+    fn eval<'py>(
+        &self,
+        wi: &Bound<'py, PyAny>,
+        wo: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        binary(&self.0, wi, wo, |b, i, o| b.f_cos(i, o))
+    }
+
+    /// The solid-angle density with which `sample` returns `wo`.
+    fn pdf<'py>(
+        &self,
+        wi: &Bound<'py, PyAny>,
+        wo: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        binary(&self.0, wi, wo, |b, i, o| b.density(i, o))
+    }
+
+    /// One outgoing direction per incident direction `wi`.
+    #[pyo3(signature = (wi, seed = 0))]
+    fn sample<'py>(&self, wi: &Bound<'py, PyAny>, seed: u64) -> PyResult<BsdfSamples> {
+        let py = wi.py();
+        let wi = Dirs::new(wi, "wi")?;
+        let flat = wi.flat()?;
+        let n = wi.len();
+        let bsdf = &self.0;
+        let (wo, weight, pdf, valid) = py.detach(|| {
+            check_unit(flat, "wi")?;
+            let mut rows = vec![None; n];
+            rows.par_chunks_mut(ROWS_PER_TASK)
+                .enumerate()
+                .for_each(|(c, chunk)| {
+                    let mut rng = stream(seed, c);
+                    for (j, r) in chunk.iter_mut().enumerate() {
+                        *r = bsdf.sample(dir(flat, c * ROWS_PER_TASK + j), &mut rng);
+                    }
+                });
+            let mut wo = Vec::with_capacity(3 * n);
+            let (mut weight, mut pdf, mut valid) = (vec![0.0; n], vec![0.0; n], vec![false; n]);
+            for (k, r) in rows.iter().enumerate() {
+                match r {
+                    Some(s) => {
+                        wo.extend([s.wo.x, s.wo.y, s.wo.z]);
+                        (weight[k], pdf[k], valid[k]) = (s.weight, s.pdf, true);
+                    }
+                    None => wo.extend([0.0; 3]),
+                }
+            }
+            Ok::<_, PyErr>((wo, weight, pdf, valid))
+        })?;
+        Ok(BsdfSamples {
+            wo: vectors(py, wo, &wi.shape)?.unbind(),
+            weight: values(py, weight, &wi.shape)?.unbind(),
+            pdf: values(py, pdf, &wi.shape)?.unbind(),
+            valid: flags(py, valid, &wi.shape)?.unbind(),
+        })
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        Ok(format!(
+            "stfit.RoughDielectric({}, eta={}, masking='{}')",
+            ndf_object(py, *self.0.ndf())?.repr()?,
+            self.0.eta(),
+            self.0.masking().name()
+        ))
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let b = &slf.get().0;
+        let args = (ndf_object(slf.py(), *b.ndf())?, b.eta(), b.masking().name())
+            .into_pyobject(slf.py())?
+            .into_any();
+        Ok((slf.get_type().into_any(), args))
+    }
+}
+
+/// Directions drawn by `RoughDielectric.sample`: `wo` (unit vectors, zero where no direction
+/// was drawn), `weight = eval / pdf`, `pdf`, and `valid` (False where the draw failed: grazing
+/// `wi`, or a direction that landed on the wrong side; then weight and pdf are 0).
+#[pyclass(module = "stfit", frozen, get_all)]
+pub struct BsdfSamples {
+    pub wo: Py<PyAny>,
+    pub weight: Py<PyAny>,
+    pub pdf: Py<PyAny>,
+    pub valid: Py<PyAny>,
+}
+
+#[pymethods]
+impl BsdfSamples {
+    fn __repr__(&self) -> &'static str {
+        "stfit.BsdfSamples(wo, weight, pdf, valid)"
+    }
+}

@@ -1,0 +1,193 @@
+//! `stfit.StudentT`, `stfit.Ggx`, `stfit.Beckmann`: the height-field NDFs of `stfit-core`
+//! (normalised by projected area, Smith Lambda on the whole sphere, exact visible-normal
+//! sampling), evaluated over batches of directions.
+
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use rand_pcg::Pcg64;
+use rayon::prelude::*;
+use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, Ndf, StudentT};
+
+use crate::arrays::{Dirs, ROWS_PER_TASK, check_unit, dir, map_rows, values, vectors};
+use crate::errors::value_error;
+
+/// The random-number stream of rows `[c * ROWS_PER_TASK, (c + 1) * ROWS_PER_TASK)` of a batch
+/// drawn with `seed`: fixed by the seed and the rows, whatever the number of threads.
+pub fn stream(seed: u64, c: usize) -> Pcg64 {
+    Pcg64::new((u128::from(seed) << 64) | 0x5851_f42d_4c95_7f2d, c as u128)
+}
+
+/// `f(ndf, w)` over a batch, with the GIL released.
+fn unary<'py>(
+    ndf: AnyNdf,
+    w: &Bound<'py, PyAny>,
+    name: &str,
+    f: fn(&AnyNdf, stfit_core::Vec3) -> f64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let py = w.py();
+    let w = Dirs::new(w, name)?;
+    let (flat, n) = (w.flat()?, w.len());
+    let out = py.detach(|| {
+        check_unit(flat, name)?;
+        Ok::<_, PyErr>(map_rows(n, |k| f(&ndf, dir(flat, k))))
+    })?;
+    values(py, out, &w.shape)
+}
+
+/// The NDF of a Python NDF object.
+pub fn any_ndf(obj: &Bound<'_, PyAny>) -> PyResult<AnyNdf> {
+    if let Ok(n) = obj.cast::<PyStudentT>() {
+        return Ok(n.get().0.into());
+    }
+    if let Ok(n) = obj.cast::<PyGgx>() {
+        return Ok(n.get().0.into());
+    }
+    if let Ok(n) = obj.cast::<PyBeckmann>() {
+        return Ok(n.get().0.into());
+    }
+    Err(PyTypeError::new_err(format!(
+        "ndf must be a stfit.StudentT, stfit.Ggx or stfit.Beckmann, got {}",
+        obj.get_type().name()?
+    )))
+}
+
+/// The Python object of an NDF.
+pub fn ndf_object(py: Python<'_>, ndf: AnyNdf) -> PyResult<Bound<'_, PyAny>> {
+    Ok(match ndf {
+        AnyNdf::StudentT(n) => Bound::new(py, PyStudentT(n))?.into_any(),
+        AnyNdf::Ggx(n) => Bound::new(py, PyGgx(n))?.into_any(),
+        AnyNdf::Beckmann(n) => Bound::new(py, PyBeckmann(n))?.into_any(),
+    })
+}
+
+/// The methods every NDF class shares, over its inner `stfit-core` NDF `self.0`.
+macro_rules! ndf_class {
+    ($class:ident, $pyname:literal, $inner:ty, ($($arg:ident),*), $make:expr, $repr:expr,
+     { $($extra:tt)* }) => {
+        #[pyclass(name = $pyname, module = "stfit", frozen)]
+        #[derive(Clone, Copy)]
+        pub struct $class(pub $inner);
+
+        #[pymethods]
+        impl $class {
+            #[new]
+            fn new($($arg: f64),*) -> PyResult<Self> {
+                $make.map(Self).map_err(value_error)
+            }
+
+            /// The roughness alpha.
+            #[getter]
+            fn alpha(&self) -> f64 {
+                self.0.alpha()
+            }
+
+            /// `D(wm)`, normalised by projected area; 0 for `wm.z <= 0`.
+            fn d<'py>(&self, wm: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+                unary(self.0.into(), wm, "wm", |n, w| n.d(w))
+            }
+
+            /// Smith `Lambda(w)` on the whole sphere (`Lambda(-w) = -1 - Lambda(w)`).
+            fn lambda_<'py>(&self, w: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+                unary(self.0.into(), w, "w", |n, w| n.lambda(w))
+            }
+
+            /// Projected area `sigma(w) = integral max(0, w.wm) D(wm) dwm`.
+            fn sigma<'py>(&self, w: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+                unary(self.0.into(), w, "w", |n, w| n.sigma(w))
+            }
+
+            /// Smith `G1(w) = 1 / (1 + Lambda(w'))`, `w'` mirrored to the upper hemisphere.
+            fn g1<'py>(&self, w: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+                unary(self.0.into(), w, "w", |n, w| n.g1(w))
+            }
+
+            /// Exact visible normals: one draw per direction `w`.
+            #[pyo3(signature = (w, seed = 0))]
+            fn sample_visible<'py>(
+                &self,
+                w: &Bound<'py, PyAny>,
+                seed: u64,
+            ) -> PyResult<Bound<'py, PyAny>> {
+                sample_visible(self.0.into(), w, seed)
+            }
+
+            $($extra)*
+
+            fn __repr__(&self) -> String {
+                let n = &self.0;
+                ($repr)(n)
+            }
+
+            fn __reduce__<'py>(
+                slf: &Bound<'py, Self>,
+            ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+                let n: AnyNdf = slf.get().0.into();
+                let args = match n.gamma() {
+                    Some(g) => (n.alpha(), g).into_pyobject(slf.py())?.into_any(),
+                    None => (n.alpha(),).into_pyobject(slf.py())?.into_any(),
+                };
+                Ok((slf.get_type().into_any(), args))
+            }
+        }
+    };
+}
+
+ndf_class!(
+    PyStudentT,
+    "StudentT",
+    StudentT,
+    (alpha, gamma),
+    StudentT::new(alpha, gamma),
+    |n: &StudentT| format!("stfit.StudentT(alpha={}, gamma={})", n.alpha(), n.gamma()),
+    {
+        /// The shape gamma (> 3/2).
+        #[getter]
+        fn gamma(&self) -> f64 {
+            self.0.gamma()
+        }
+    }
+);
+ndf_class!(
+    PyGgx,
+    "Ggx",
+    Ggx,
+    (alpha),
+    Ggx::new(alpha),
+    |n: &Ggx| format!("stfit.Ggx(alpha={})", n.alpha()),
+    {}
+);
+ndf_class!(
+    PyBeckmann,
+    "Beckmann",
+    Beckmann,
+    (alpha),
+    Beckmann::new(alpha),
+    |n: &Beckmann| format!("stfit.Beckmann(alpha={})", n.alpha()),
+    {}
+);
+
+/// Visible normals drawn from every direction of a batch; rows of one task share a stream.
+fn sample_visible<'py>(
+    ndf: AnyNdf,
+    w: &Bound<'py, PyAny>,
+    seed: u64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let py = w.py();
+    let w = Dirs::new(w, "w")?;
+    let flat = w.flat()?;
+    let out = py.detach(|| {
+        check_unit(flat, "w")?;
+        let mut out = vec![0.0; flat.len()];
+        out.par_chunks_mut(3 * ROWS_PER_TASK)
+            .enumerate()
+            .for_each(|(c, chunk)| {
+                let mut rng = stream(seed, c);
+                for (j, o) in chunk.chunks_exact_mut(3).enumerate() {
+                    let wm = ndf.sample_visible(dir(flat, c * ROWS_PER_TASK + j), &mut rng);
+                    o.copy_from_slice(&[wm.x, wm.y, wm.z]);
+                }
+            });
+        Ok::<_, PyErr>(out)
+    })?;
+    vectors(py, out, &w.shape)
+}

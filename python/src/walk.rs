@@ -1,0 +1,188 @@
+//! `stfit.Microsurface`: the multiple-scattering dielectric microsurface of `stfit-core` (the
+//! height-field random walk of Heitz et al. 2016, with `stfit_core::surface` choosing the
+//! estimator), its albedo and its BSDF as Monte Carlo estimates with standard errors.
+
+use pyo3::prelude::*;
+use stfit_core::ScatteringOrders;
+use stfit_core::ndf::AnyNdf;
+use stfit_core::surface::{NdfChoice, NdfFamily, Surface, SurfaceOptions};
+use stfit_core::walk::{AlbedoEstimate, DEFAULT_ALBEDO_WALKS, DEFAULT_EVAL_WALKS, eval_pairs};
+
+use crate::arrays::{Dirs, Pairing, check_unit, values};
+use crate::errors::{arg_error, value_error};
+use crate::ndf::{any_ndf, ndf_object};
+
+/// Parses orders: `single`, `multiple` or `all`.
+pub fn orders(name: &str) -> PyResult<ScatteringOrders> {
+    name.parse().map_err(|e| arg_error("orders", e))
+}
+
+#[pyclass(name = "Microsurface", module = "stfit", frozen)]
+pub struct PyMicrosurface {
+    ndf: AnyNdf,
+    eta: f64,
+    surface: Surface,
+    orders: ScatteringOrders,
+}
+
+fn walks_arg(walks: u64) -> PyResult<u64> {
+    if walks == 0 {
+        Err(arg_error("walks", "must be at least 1, got 0"))
+    } else {
+        Ok(walks)
+    }
+}
+
+#[pymethods]
+impl PyMicrosurface {
+    #[new]
+    #[pyo3(signature = (ndf, eta, orders = "all"))]
+    fn new(ndf: &Bound<'_, PyAny>, eta: f64, orders: &str) -> PyResult<Self> {
+        let n = any_ndf(ndf)?;
+        let family = match n {
+            AnyNdf::Beckmann(_) => NdfFamily::Beckmann,
+            AnyNdf::Ggx(_) => NdfFamily::Ggx,
+            AnyNdf::StudentT(_) => NdfFamily::StudentT,
+        };
+        let options = SurfaceOptions {
+            alpha: Some(n.alpha()),
+            gamma: n.gamma(),
+            eta: Some(eta),
+            ..SurfaceOptions::new(NdfChoice::HeightField(family))
+        };
+        let surface = options
+            .check()
+            .map_err(|e| value_error(e.message(|p| p.to_string())))?;
+        Ok(Self {
+            ndf: n,
+            eta,
+            surface,
+            orders: self::orders(orders)?,
+        })
+    }
+
+    /// The relative index of refraction of the facets.
+    #[getter]
+    fn eta(&self) -> f64 {
+        self.eta
+    }
+
+    #[getter]
+    fn ndf<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        ndf_object(py, self.ndf)
+    }
+
+    /// `single`, `multiple` or `all`.
+    #[getter]
+    fn orders(&self) -> &'static str {
+        self.orders.name()
+    }
+
+    /// Fractions of the flux arriving from the unit direction `wi` that leave on its side
+    /// (reflectance) and on the other (transmittance), from `walks` random walks.
+    #[pyo3(signature = (wi, walks = DEFAULT_ALBEDO_WALKS, seed = 1))]
+    fn albedo(&self, wi: &Bound<'_, PyAny>, walks: u64, seed: u64) -> PyResult<Albedo> {
+        let py = wi.py();
+        let wi = Dirs::new(wi, "wi")?;
+        if !wi.shape.is_empty() {
+            return Err(arg_error("wi", "albedo takes one direction, of shape (3,)"));
+        }
+        let flat = wi.flat()?;
+        let walks = walks_arg(walks)?;
+        let (surface, orders) = (self.surface, self.orders);
+        let a = py.detach(|| {
+            check_unit(flat, "wi")?;
+            let estimator = surface.estimator(orders).map_err(value_error)?;
+            Ok::<_, PyErr>(estimator.albedo(crate::arrays::dir(flat, 0), walks, seed))
+        })?;
+        Ok(Albedo(a))
+    }
+
+    /// Estimates of `f(wi, wo) |wo.z|` and their standard errors, as two arrays: pairs that
+    /// share a `wi` share one set of `walks` walks, seeded by the direction and `seed`.
+    #[pyo3(signature = (wi, wo, walks = DEFAULT_EVAL_WALKS, seed = 1))]
+    fn eval<'py>(
+        &self,
+        wi: &Bound<'py, PyAny>,
+        wo: &Bound<'py, PyAny>,
+        walks: u64,
+        seed: u64,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let py = wi.py();
+        let (wi, wo) = (Dirs::new(wi, "wi")?, Dirs::new(wo, "wo")?);
+        let pairing = Pairing::new(&wi, &wo, ("wi", "wo"))?;
+        let (a, b) = (wi.flat()?, wo.flat()?);
+        let walks = walks_arg(walks)?;
+        let (surface, orders) = (self.surface, self.orders);
+        let est = py.detach(|| {
+            check_unit(a, "wi")?;
+            check_unit(b, "wo")?;
+            let estimator = surface.estimator(orders).map_err(value_error)?;
+            let pairs: Vec<_> = (0..pairing.n).map(|k| pairing.pair(a, b, k)).collect();
+            Ok::<_, PyErr>(eval_pairs(estimator.as_ref(), &pairs, walks, seed))
+        })?;
+        let mean = est.iter().map(|e| e.mean).collect();
+        let stderr = est.iter().map(|e| e.stderr).collect();
+        Ok((
+            values(py, mean, &pairing.shape)?,
+            values(py, stderr, &pairing.shape)?,
+        ))
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        Ok(format!(
+            "stfit.Microsurface({}, eta={}, orders='{}')",
+            ndf_object(py, self.ndf)?.repr()?,
+            self.eta,
+            self.orders.name()
+        ))
+    }
+}
+
+/// An albedo estimate: `reflectance`, `transmittance` and their standard errors, the mean
+/// number of scattering events `mean_bounces`, the fraction `truncated` of the flux dropped by
+/// walks past the safety cap, and the number of `walks`.
+#[pyclass(module = "stfit", frozen)]
+pub struct Albedo(AlbedoEstimate);
+
+#[pymethods]
+impl Albedo {
+    #[getter]
+    fn reflectance(&self) -> f64 {
+        self.0.reflectance
+    }
+    #[getter]
+    fn transmittance(&self) -> f64 {
+        self.0.transmittance
+    }
+    #[getter]
+    fn reflectance_stderr(&self) -> f64 {
+        self.0.reflectance_stderr
+    }
+    #[getter]
+    fn transmittance_stderr(&self) -> f64 {
+        self.0.transmittance_stderr
+    }
+    #[getter]
+    fn mean_bounces(&self) -> f64 {
+        self.0.mean_bounces
+    }
+    #[getter]
+    fn truncated(&self) -> f64 {
+        self.0.truncated
+    }
+    #[getter]
+    fn walks(&self) -> u64 {
+        self.0.walks
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "stfit.Albedo(reflectance={} +- {}, transmittance={} +- {}, walks={})",
+            self.0.reflectance,
+            self.0.reflectance_stderr,
+            self.0.transmittance,
+            self.0.transmittance_stderr,
+            self.0.walks
+        )
+    }
+}

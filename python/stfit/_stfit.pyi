@@ -1,0 +1,317 @@
+"""Type stubs of stfit's Rust extension (``stfit._stfit``), re-exported by ``stfit``.
+
+Directions are unit vectors in the local frame (+z the macro normal, z > 0 outside with index
+1, z < 0 inside with index ``eta``), given as any array-like of shape ``(..., 3)``; values come
+back with the leading shape, or as a float for a single direction of shape ``(3,)``. A
+direction whose norm differs from 1 by more than 1e-6 raises ``ValueError``.
+"""
+
+import os
+from typing import Any, Mapping, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+ArrayLike = npt.ArrayLike
+FloatOrArray = Union[float, npt.NDArray[np.float64]]
+PathLike = Union[str, os.PathLike[str]]
+DataSource = Union["Dataset", PathLike, Sequence[PathLike], Mapping[str, Any], Any]
+
+class LoadError(ValueError):
+    """Bad measurement data.
+
+    ``file``: the file (``<arrays>`` or ``<DataFrame>`` for in-memory columns); ``line``: the
+    1-based line (for in-memory columns row k is line k + 2, the header being line 1), or None;
+    ``column``: the column's header name, or None; ``message``: what is wrong.
+    """
+
+    file: str
+    line: Optional[int]
+    column: Optional[str]
+    message: str
+
+class FitError(ValueError):
+    """A fit that cannot be made (too few points, no signal, an optimiser that failed)."""
+
+    file: str
+    sample: str
+    model: str
+    message: str
+
+class _Ndf:
+    @property
+    def alpha(self) -> float:
+        """The roughness alpha."""
+    def d(self, wm: ArrayLike) -> FloatOrArray:
+        """``D(wm)``, normalised by projected area (integral D(wm) wm.z dwm = 1); 0 for wm.z <= 0."""
+    def lambda_(self, w: ArrayLike) -> FloatOrArray:
+        """Smith ``Lambda(w)`` on the whole sphere, extended by Lambda(-w) = -1 - Lambda(w)."""
+    def sigma(self, w: ArrayLike) -> FloatOrArray:
+        """Projected area ``sigma(w) = integral max(0, w.wm) D(wm) dwm`` (= w.z (1 + Lambda(w)) above the horizon)."""
+    def g1(self, w: ArrayLike) -> FloatOrArray:
+        """Smith masking ``G1(w) = 1 / (1 + Lambda(w'))``, ``w'`` mirrored to the upper hemisphere."""
+    def sample_visible(self, w: ArrayLike, seed: int = 0) -> npt.NDArray[np.float64]:
+        """Exact visible normals: one facet normal per direction ``w`` (any direction on the
+        sphere), drawn from ``D_w(wm) = max(0, w.wm) D(wm) / sigma(w)``. Unit vectors with
+        ``wm.z > 0`` and ``w.wm > 0``, shape ``(..., 3)``; the same for a seed whatever the
+        number of threads."""
+
+class StudentT(_Ndf):
+    """The Student-T NDF of d'Eon 2023 with roughness ``alpha`` > 0 and shape ``gamma`` > 3/2
+    (GGX at gamma = 2, Beckmann as gamma grows)."""
+
+    def __init__(self, alpha: float, gamma: float) -> None: ...
+    @property
+    def gamma(self) -> float:
+        """The shape gamma."""
+
+class Ggx(_Ndf):
+    """The GGX (Trowbridge-Reitz) NDF with roughness ``alpha`` > 0."""
+
+    def __init__(self, alpha: float) -> None: ...
+
+class Beckmann(_Ndf):
+    """The Beckmann NDF with roughness ``alpha`` > 0."""
+
+    def __init__(self, alpha: float) -> None: ...
+
+Ndf = Union[StudentT, Ggx, Beckmann]
+
+class BsdfSamples:
+    """Directions drawn by ``RoughDielectric.sample``: ``wo`` (unit vectors; zeros where no
+    direction was drawn), ``weight = eval(wi, wo) / pdf``, ``pdf`` (solid-angle density) and
+    ``valid`` (False where the draw failed: grazing ``wi`` or a direction that landed on the
+    wrong side; then weight and pdf are 0)."""
+
+    wo: npt.NDArray[np.float64]
+    weight: FloatOrArray
+    pdf: FloatOrArray
+    valid: Union[bool, npt.NDArray[np.bool_]]
+
+class RoughDielectric:
+    """The single-scattering rough dielectric of Walter et al. 2007: index 1 above, ``eta``
+    (> 0, != 1) below, exact unpolarised Fresnel, ``masking`` ``'separable'`` (G1 G1, as the
+    published fits) or ``'correlated'`` (height-correlated Smith). Light may come from either
+    side."""
+
+    def __init__(self, ndf: Ndf, eta: float, masking: str = "separable") -> None: ...
+    @property
+    def ndf(self) -> Ndf: ...
+    @property
+    def eta(self) -> float: ...
+    @property
+    def masking(self) -> str: ...
+    def eval(self, wi: ArrayLike, wo: ArrayLike) -> FloatOrArray:
+        """``f(wi, wo) |wo.z|`` (reflection when wi and wo are on the same side, else
+        transmission). ``wi`` and ``wo`` have the same shape, or one is a single direction."""
+    def pdf(self, wi: ArrayLike, wo: ArrayLike) -> FloatOrArray:
+        """The solid-angle density with which ``sample`` returns ``wo``."""
+    def sample(self, wi: ArrayLike, seed: int = 0) -> BsdfSamples:
+        """One outgoing direction per ``wi``: a visible normal from wi's side, then reflection
+        with probability F, else refraction."""
+
+class Albedo:
+    """Fractions of the incident flux leaving on the light's side (``reflectance``) and the
+    other (``transmittance``), with standard errors, ``mean_bounces``, the fraction
+    ``truncated`` dropped at the safety cap, and ``walks``."""
+
+    reflectance: float
+    transmittance: float
+    reflectance_stderr: float
+    transmittance_stderr: float
+    mean_bounces: float
+    truncated: float
+    walks: int
+
+class Microsurface:
+    """The multiple-scattering dielectric microsurface: the height-field random walk of Heitz
+    et al. 2016 on the Smith microsurface of ``ndf`` with smooth dielectric facets of index
+    ``eta``, restricted to ``orders``: ``'single'`` (order 1), ``'multiple'`` (orders >= 2) or
+    ``'all'``. Its masking is height-correlated by construction."""
+
+    def __init__(self, ndf: Ndf, eta: float, orders: str = "all") -> None: ...
+    @property
+    def ndf(self) -> Ndf: ...
+    @property
+    def eta(self) -> float: ...
+    @property
+    def orders(self) -> str: ...
+    def albedo(self, wi: ArrayLike, walks: int = 1_000_000, seed: int = 1) -> Albedo:
+        """The albedo for light from the single unit direction ``wi`` (shape (3,)), from
+        ``walks`` walks; parallel, identical for a seed whatever the number of threads."""
+    def eval(
+        self, wi: ArrayLike, wo: ArrayLike, walks: int = 100_000, seed: int = 1
+    ) -> tuple[FloatOrArray, FloatOrArray]:
+        """Monte Carlo estimates of ``f(wi, wo) |wo.z|`` and their standard errors. Pairs that
+        share a ``wi`` share one set of ``walks`` walks, seeded by the direction and ``seed``,
+        so each estimate depends on its pair and the seed only."""
+
+class Dataset:
+    """Measurements: named samples of points (angles, value ``L`` or BSDF, weight)."""
+
+    @property
+    def source(self) -> str:
+        """The file, the paths joined by ', ', '<arrays>', '<DataFrame>' or '<synth>'."""
+    @property
+    def samples(self) -> list[str]:
+        """Sample names in order of first appearance ('' for a file without a sample column)."""
+    @property
+    def n_points(self) -> int: ...
+    def sample(self, name: str) -> "Dataset":
+        """The dataset restricted to one sample (LoadError if there is none of that name)."""
+    def columns(self) -> dict[str, Any]:
+        """The points as columns named as a file's header (in-plane: sample, theta_i_deg,
+        theta_o_deg, L, weight; general: sample, theta_i_deg, phi_i_deg, theta_o_deg,
+        phi_o_deg, bsdf, weight); ``pandas.DataFrame(d.columns())`` and ``stfit.load`` of it
+        round-trip."""
+    def __len__(self) -> int: ...
+
+def load(source: DataSource, *, sample: Optional[str] = None) -> Dataset:
+    """Reads measurements (data-format.md): a CSV file (in-plane or general) or pab-opto file, a
+    folder of them, a list of paths, or in-memory columns named as a file's header (a mapping of
+    names to arrays, or a pandas DataFrame), validated by the same rules. Raises LoadError with
+    the file, line and column of the first problem."""
+
+class FitResult:
+    """One model fitted to one sample: every key of a record of the fits JSON
+    (fits-format.md) is an attribute of the same name."""
+
+    sample: str
+    model: str
+    alpha: float
+    gamma: Optional[float]
+    gamma_fixed: bool
+    scale: float
+    eta: float
+    masking: str
+    orders: str
+    walks: Optional[int]
+    seed: Optional[int]
+    eta_fixed: bool
+    scale_fixed: bool
+    loss: str
+    log_floor: Optional[float]
+    optimizer: str
+    measured: str
+    rmse_sqrt_l: float
+    n_points: int
+    alpha_stderr: Optional[float]
+    gamma_stderr: Optional[float]
+    eta_stderr: Optional[float]
+    scale_stderr: Optional[float]
+    iterations: int
+    data: Optional[str]
+    stfit_version: str
+    def label(self) -> str: ...
+    def predict(self, theta_i_deg: Sequence[float], theta_o_deg: Sequence[float]) -> list[float]:
+        """The fitted model's ``L`` at in-plane configurations (theta_i in [0, 90), theta_o in (90, 270))."""
+    def to_json(self) -> str:
+        """The record as JSON text, exactly as in the fits file."""
+    def to_dict(self) -> dict[str, Any]:
+        """The record as a dict with the keys of the fits JSON."""
+    @staticmethod
+    def from_json(text: str) -> "FitResult": ...
+
+def fit(
+    data: DataSource,
+    *,
+    model: str = "student-t",
+    gamma: Optional[float] = None,
+    sample: Optional[str] = None,
+    eta: Union[float, str, None] = None,
+    scale: Union[float, str, None] = None,
+    loss: str = "sqrt",
+    log_floor: float = 1e-3,
+    optimizer: str = "nelder-mead",
+    masking: Optional[str] = None,
+    orders: str = "single",
+    walks: int = 20_000,
+    seed: int = 1,
+    multiple_term: str = "surrogate",
+) -> list[FitResult]:
+    """Fits ``model`` ('beckmann', 'ggx', 'student-t' or 'all': the four models Beckmann, GGX,
+    Student-T with gamma = 3 and with gamma free) to every sample, with the command line's
+    options and defaults: ``eta`` 1.51 (a number or 'free'), ``scale`` 'free' (or a number),
+    ``orders`` 'single' or 'all' (the random walk's orders >= 2 added, ``walks`` per incidence
+    from ``seed``; ``multiple_term`` 'surrogate' interpolates that term between a few walk
+    sets while searching, 'exact' walks at every evaluation), ``masking`` separable for single
+    scattering. Raises ValueError for bad
+    options, LoadError for bad data, FitError for a fit that cannot be made."""
+
+def table(fits: Sequence[FitResult]) -> str:
+    """The fits as the text table ``stfit DATA`` prints."""
+
+def fits_json(fits: Sequence[FitResult]) -> str:
+    """The fits as a fits file (what ``stfit DATA --json`` prints)."""
+
+def read_fits(path: PathLike) -> list[FitResult]:
+    """The fits of a stored fits file."""
+
+def synth(
+    model: str,
+    alpha: float,
+    gamma: Optional[float] = None,
+    *,
+    scale: float = 1.0,
+    noise: float = 0.0,
+    seed: int = 1,
+    grid: str = "in-plane",
+    theta_i: Union[Sequence[float], str, None] = None,
+    phi_i: Union[Sequence[float], str, None] = None,
+    theta_o: Union[Sequence[float], str, None] = None,
+    phi_o: Union[Sequence[float], str, None] = None,
+    eta: float = 1.51,
+    masking: Optional[str] = None,
+    orders: str = "single",
+    walks: int = 20_000,
+    sample: str = "synthetic",
+    out: Optional[PathLike] = None,
+) -> Dataset:
+    """Synthetic measurements of known truth (``stfit synth``): the model on an angle grid
+    ('in-plane': L, or 'general': the BSDF on both sides) with noise max(0, v (1 + noise z)),
+    written as CSV to ``out`` when given. Angle lists are sequences or the command line's text
+    ('0,30,60', '106:254:2')."""
+
+def report(
+    data: DataSource,
+    fits: Optional[Sequence[FitResult]] = None,
+    *,
+    out: PathLike,
+    y_axis: str = "sqrt",
+    eta: Union[float, str, None] = None,
+    scale: Union[float, str, None] = None,
+    loss: str = "sqrt",
+    log_floor: float = 1e-3,
+    optimizer: str = "nelder-mead",
+    masking: Optional[str] = None,
+    orders: str = "single",
+    walks: int = 20_000,
+    seed: int = 1,
+    multiple_term: str = "surrogate",
+) -> list[str]:
+    """Writes the report of ``stfit report`` into ``out``: comparison figures (SVG, PNG) and
+    fits.md. Without ``fits``, the four models are fitted first with the options given.
+    Returns the paths written; non-fatal findings are issued as warnings."""
+
+def table_shard(spec: str, index: int = 1, count: int = 1) -> str:
+    """Computes shard ``index`` of ``count`` of a directional-albedo (energy) table, ``spec``
+    being the JSON text of a table specification (the ``spec`` of a shard file of
+    ``stfit tables --shard K/N``, tables-format.md); returns the shard file's JSON text. One
+    task of a cluster computes one shard."""
+
+class Table:
+    """A whole directional-albedo table, in the formats of ``stfit tables --format``."""
+
+    def spec(self) -> str:
+        """The specification as JSON text."""
+    def npy(self) -> bytes:
+        """The .npy bytes: a structured array of shape (sides, gamma, eta, mu, alpha)."""
+    def csv(self) -> str: ...
+    def c_header(self) -> str:
+        """The C header in Cycles' layout."""
+
+def merge_table_shards(shards: Sequence[str]) -> Table:
+    """Joins shard texts (every shard 1..N of one specification exactly once) into the table
+    one run computes (``stfit tables merge``)."""

@@ -1,0 +1,365 @@
+//! The supported ranges (README, "Limits") as the command line enforces them, and outputs that
+//! are never non-finite, never a "± 0" from one walk, and messages that never echo a huge field.
+
+use stfit_test_support::{CaseDir, Cli, Run};
+
+fn stfit(args: &[&str]) -> Run {
+    Cli::new(env!("CARGO_BIN_EXE_stfit")).run(args)
+}
+
+fn stfit_in(args: &[&str], stdin: &str) -> Run {
+    Cli::new(env!("CARGO_BIN_EXE_stfit")).run_with_stdin(args, stdin)
+}
+
+/// Parameters outside their range: exit 2, the flag and the range named, no huge number spelt
+/// out in full.
+#[test]
+fn parameters_outside_their_range_are_usage_errors_naming_the_range() {
+    let dir = CaseDir::new("limits-ranges");
+    let data = dir.join("d.csv");
+    stfit(&[
+        "synth",
+        "--model",
+        "ggx",
+        "--alpha",
+        "0.3",
+        "--out",
+        data.to_str().unwrap(),
+    ])
+    .ok();
+    let d = data.to_str().unwrap();
+    let surface = |extra: &[&'static str]| {
+        let mut a = vec!["albedo", "--theta-i", "30", "--walks", "100"];
+        a.extend_from_slice(extra);
+        a
+    };
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["synth", "--model", "beckmann", "--alpha", "1e-160"],
+            "[1e-8, 100]",
+        ),
+        (
+            vec!["synth", "--model", "ggx", "--alpha", "1e156"],
+            "[1e-8, 100]",
+        ),
+        (
+            vec![
+                "synth",
+                "--model",
+                "student-t",
+                "--alpha",
+                "0.3",
+                "--gamma",
+                "1e25",
+            ],
+            "1e15",
+        ),
+        (
+            vec![
+                "synth", "--model", "ggx", "--alpha", "0.3", "--eta", "1.001",
+            ],
+            "0.01",
+        ),
+        (vec![d, "--eta", "0.9"], "[1.05, 3]"),
+        (vec![d, "--eta", "3.5"], "[1.05, 3]"),
+        (vec![d, "--gamma", "1.5001", "--orders", "all"], "1.501"),
+        (
+            surface(&[
+                "--ndf",
+                "student-t",
+                "--alpha",
+                "0.5",
+                "--gamma",
+                "1.5001",
+                "--eta",
+                "1.5",
+            ]),
+            "1.501",
+        ),
+        (
+            surface(&[
+                "--ndf",
+                "vmf",
+                "--kappa",
+                "1e6",
+                "--facet",
+                "conductor",
+                "--walk",
+                "null",
+            ]),
+            "[0.1, 1e4]",
+        ),
+        (
+            surface(&[
+                "--ndf",
+                "porous",
+                "--base",
+                "ggx",
+                "--alpha",
+                "0.5",
+                "--porosity",
+                "1",
+                "--facet",
+                "conductor",
+                "--walk",
+                "null",
+            ]),
+            "[0, 0.99]",
+        ),
+        (
+            surface(&[
+                "--ndf",
+                "ggx",
+                "--alpha",
+                "0.3",
+                "--facet",
+                "conductor",
+                "--n",
+                "1e300",
+                "--k",
+                "1",
+            ]),
+            "[1e-3, 1e3]",
+        ),
+        (
+            surface(&["--ndf", "ggx", "--alpha", "1e300", "--eta", "1.5"]),
+            "[1e-8, 100]",
+        ),
+    ];
+    for (args, range) in cases {
+        let err = stfit(&args).fails_with(2).to_string();
+        assert!(err.contains(range), "{args:?}: {err}");
+        assert!(err.len() < 400, "{args:?}: a long message: {err}");
+    }
+}
+
+/// A seeded sweep over the supported alpha and gamma ranges (log-uniform, both ends
+/// included): synth writes finite values and exits 0 for every model; the closed-form eval
+/// gives finite values at every direction pair of a fixed set.
+#[test]
+fn inside_the_ranges_every_written_value_is_finite() {
+    let mut alphas = vec![1e-8, 100.0];
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    for _ in 0..6 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let u = (state >> 11) as f64 / (1u64 << 53) as f64;
+        alphas.push(10f64.powf(-8.0 + 10.0 * u));
+    }
+    let pairs = "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,-1\n0,0,1,0,0,1\n0.6,0,0.8,-0.6,0,-0.8\n\
+                 0.6,0,0.8,0.6,0,-0.8\n0,0.999,0.0447101778,0,-0.2,-0.9797958971\n";
+    for &alpha in &alphas {
+        let a = format!("{alpha:e}");
+        for (model, gamma) in [
+            ("beckmann", None),
+            ("ggx", None),
+            ("student-t", Some("1.5000001")),
+            ("student-t", Some("1e15")),
+        ] {
+            let mut args = vec!["synth", "--model", model, "--alpha", &a];
+            if let Some(g) = gamma {
+                args.extend(["--gamma", g]);
+            }
+            let out = stfit(&args);
+            for line in out.ok().lines().filter(|l| !l.starts_with('#')).skip(1) {
+                let v: f64 = line.rsplit(',').next().unwrap().parse().unwrap();
+                assert!(v.is_finite() && v >= 0.0, "{args:?}: {line}");
+            }
+            let ndf = if model == "student-t" {
+                "student-t"
+            } else {
+                model
+            };
+            let mut eval = vec!["eval", "--ndf", ndf, "--alpha", &a, "--eta", "1.5"];
+            if let Some(g) = gamma {
+                eval.extend(["--gamma", g]);
+            }
+            let out = stfit_in(&eval, pairs);
+            for line in out.ok().lines().skip(1) {
+                let v: f64 = line.rsplit(',').next().unwrap().parse().unwrap();
+                assert!(v.is_finite() && v >= 0.0, "{eval:?}: {line}");
+            }
+        }
+    }
+}
+
+/// A scale whose values overflow is refused, nothing written.
+#[test]
+fn synth_refuses_values_that_overflow() {
+    let err = stfit(&[
+        "synth", "--model", "beckmann", "--alpha", "0.3", "--scale", "1e308",
+    ])
+    .fails_with(2)
+    .to_string();
+    assert!(err.contains("not a representable number"), "{err}");
+}
+
+/// A stored fit outside the supported ranges is refused when read (exit 1), naming the fit.
+#[test]
+fn stored_fits_outside_the_ranges_are_refused_naming_the_fit() {
+    let dir = CaseDir::new("limits-stored");
+    let data = dir.join("d.csv");
+    let fits = dir.join("fits.json");
+    stfit(&[
+        "synth",
+        "--model",
+        "ggx",
+        "--alpha",
+        "0.3",
+        "--sample",
+        "s",
+        "--out",
+        data.to_str().unwrap(),
+    ])
+    .ok();
+    stfit(&[
+        data.to_str().unwrap(),
+        "--model",
+        "ggx",
+        "--out",
+        fits.to_str().unwrap(),
+    ])
+    .ok();
+    let text = std::fs::read_to_string(&fits).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let alpha = v["fits"][0]["alpha"].as_f64().unwrap();
+    let bad = text.replace(&format!("\"alpha\": {alpha}"), "\"alpha\": 1e-160");
+    assert_ne!(bad, text);
+    std::fs::write(&fits, bad).unwrap();
+    let out = dir.join("report");
+    let err = stfit(&[
+        "report",
+        data.to_str().unwrap(),
+        "--fits",
+        fits.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ])
+    .fails_with(1)
+    .to_string();
+    assert!(
+        err.contains("fit 0 (sample 's', ggx)") && err.contains("[1e-8, 100]"),
+        "{err}"
+    );
+}
+
+/// One walk has no sample variance: the standard error is empty (eval) or null (albedo JSON),
+/// not 0.
+#[test]
+fn a_single_walk_has_no_standard_error() {
+    let pairs = "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,-1\n";
+    let args = [
+        "eval", "--ndf", "ggx", "--alpha", "0.3", "--eta", "1.5", "--orders", "all",
+    ];
+    let one = stfit_in(&[&args[..], &["--walks", "1"]].concat(), pairs);
+    let row = one.ok().lines().nth(1).unwrap().to_string();
+    assert!(row.ends_with(','), "{row}");
+    let two = stfit_in(&[&args[..], &["--walks", "2"]].concat(), pairs);
+    assert!(!two.ok().lines().nth(1).unwrap().ends_with(','));
+    let json = stfit(&[
+        "albedo",
+        "--ndf",
+        "ggx",
+        "--alpha",
+        "0.3",
+        "--eta",
+        "1.5",
+        "--theta-i",
+        "0",
+        "--walks",
+        "1",
+        "--json",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(json.ok()).unwrap();
+    assert!(
+        v["reflectance_stderr"].is_null() && v["transmittance_stderr"].is_null(),
+        "{v}"
+    );
+    let text = stfit(&[
+        "albedo",
+        "--ndf",
+        "ggx",
+        "--alpha",
+        "0.3",
+        "--eta",
+        "1.5",
+        "--theta-i",
+        "0",
+        "--walks",
+        "1",
+    ]);
+    assert!(!text.ok().contains("+-"), "{}", text.stdout);
+}
+
+/// A fit on a search bound is flagged in the JSON, the table and on stderr, with null
+/// standard errors.
+#[test]
+fn a_flagged_fit_is_marked_everywhere() {
+    let dir = CaseDir::new("limits-flagged");
+    let data = dir.join("rough.csv");
+    stfit(&[
+        "synth",
+        "--model",
+        "ggx",
+        "--alpha",
+        "60",
+        "--out",
+        data.to_str().unwrap(),
+    ])
+    .ok();
+    let json = stfit(&[data.to_str().unwrap(), "--model", "ggx", "--json"]);
+    let v: serde_json::Value = serde_json::from_str(json.ok()).unwrap();
+    let f = &v["fits"][0];
+    assert_eq!(f["warnings"][0]["kind"], "at-bound", "{f}");
+    assert_eq!(f["warnings"][0]["parameter"], "alpha", "{f}");
+    assert!(
+        f["alpha_stderr"].is_null() && f["scale_stderr"].is_null(),
+        "{f}"
+    );
+    assert!(
+        json.stderr
+            .contains("warning: sample 'synthetic', ggx: alpha ended on the search bound 20")
+    );
+    let table = stfit(&[data.to_str().unwrap(), "--model", "ggx"]);
+    let lines: Vec<&str> = table.ok().lines().collect();
+    assert!(
+        lines[0].ends_with("warnings") && lines[1].ends_with("at-bound(alpha)"),
+        "{lines:?}"
+    );
+    assert!(!lines[1].contains('±'), "{lines:?}");
+}
+
+/// Sample names of any length and content: errors shorten them, tables keep one line per row.
+#[test]
+fn huge_and_odd_names_are_shortened_and_escaped() {
+    let dir = CaseDir::new("limits-names");
+    let name = "é".repeat(5000);
+    let data = dir.join("big.csv");
+    stfit(&[
+        "synth",
+        "--model",
+        "ggx",
+        "--alpha",
+        "0.3",
+        "--sample",
+        &name,
+        "--out",
+        data.to_str().unwrap(),
+    ])
+    .ok();
+    let err = stfit(&[data.to_str().unwrap(), "--sample", "nope"])
+        .fails_with(1)
+        .to_string();
+    assert!(
+        err.contains("(5002 characters)") && err.chars().count() < 300,
+        "{err}"
+    );
+    let odd = dir.file(
+        "odd.csv",
+        "sample,theta_i_deg,theta_o_deg,L\n\"a\nb\tc\",0,180,1\n\"a\nb\tc\",0,170,0.5\n\"a\nb\tc\",30,170,0.7\n\"a\nb\tc\",30,160,0.2\n",
+    );
+    let table = stfit(&[odd.to_str().unwrap(), "--model", "ggx"]);
+    assert_eq!(table.ok().lines().count(), 2, "{}", table.stdout);
+    assert!(table.stdout.contains("a\\nb\\tc"));
+}
