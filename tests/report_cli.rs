@@ -214,7 +214,7 @@ fn bad_input_fails_with_a_message() {
             "no format version",
         ),
         (vec!["report", p(&ex), "--fits", p(&newer)], "version 9"),
-        (vec!["report", p(&ex), "--fits", p(&invalid)], "correlated"),
+        (vec!["export", p(&invalid), "--to", "pbrt-v4"], "correlated"),
         (
             vec!["report", p(&ex), "--fits", p(&foreign), "--sample", "nope"],
             "nope",

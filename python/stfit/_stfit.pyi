@@ -204,6 +204,8 @@ class FitResult:
     iterations: int
     data: Optional[str]
     stfit_version: str
+    warnings: list[dict[str, Any]]
+    """Why the fit cannot be trusted as it stands (dicts with a ``kind``, as in the fits JSON); empty for a sound fit."""
     def label(self) -> str: ...
     def predict(self, theta_i_deg: Sequence[float], theta_o_deg: Sequence[float]) -> list[float]:
         """The fitted model's ``L`` at in-plane configurations (theta_i in [0, 90), theta_o in (90, 270))."""

@@ -102,7 +102,8 @@ fn stored_fits(
     data: &Dataset,
     selected: bool,
 ) -> Result<Vec<FitResult>, CmdError> {
-    let mut fits = FitsFile::read(path).map_err(failed)?.fits;
+    // Fits whose model cannot be evaluated are named in the report's warnings, not refused.
+    let mut fits = FitsFile::read_unchecked(path).map_err(failed)?.fits;
     if selected {
         fits.retain(|f| data.samples.iter().any(|s| s.name == f.sample));
     }

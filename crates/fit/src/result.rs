@@ -187,6 +187,22 @@ impl FitsFile {
     /// Parses stored fits; `source` names them in errors. Refuses files without a version (made
     /// by stfit 0.1) or of another version, and fits whose model cannot be evaluated.
     pub fn from_json(source: &str, text: &str) -> Result<Self, FitsFileError> {
+        let file = Self::from_json_unchecked(source, text)?;
+        for (index, fit) in file.fits.iter().enumerate() {
+            fit.model.check().map_err(|e| FitsFileError::InvalidFit {
+                file: source.to_owned(),
+                index,
+                label: fit.label(),
+                reason: e.to_string(),
+            })?;
+        }
+        Ok(file)
+    }
+
+    /// [`FitsFile::from_json`] without checking that each model can be evaluated: for readers
+    /// that name such fits and go on with the others (`stfit report` warns and leaves their
+    /// curves out) rather than refuse the file.
+    pub fn from_json_unchecked(source: &str, text: &str) -> Result<Self, FitsFileError> {
         let json = |e: serde_json::Error| FitsFileError::Json(source.to_owned(), e.to_string());
         let value: serde_json::Value = serde_json::from_str(text).map_err(json)?;
         match value.get("version") {
@@ -205,26 +221,26 @@ impl FitsFile {
             _ => {}
         }
         // Parsed from the text itself, not the `Value`, so every number keeps its exact bits.
-        let file: FitsFile = serde_json::from_str(text).map_err(json)?;
-        for (index, fit) in file.fits.iter().enumerate() {
-            fit.model.check().map_err(|e| FitsFileError::InvalidFit {
-                file: source.to_owned(),
-                index,
-                label: fit.label(),
-                reason: e.to_string(),
-            })?;
-        }
-        Ok(file)
+        serde_json::from_str(text).map_err(json)
     }
 
     /// Reads stored fits from `path` ([`FitsFile::from_json`]).
     pub fn read(path: &Path) -> Result<Self, FitsFileError> {
-        let text = std::fs::read_to_string(path).map_err(|source| FitsFileError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
-        Self::from_json(&path.display().to_string(), &text)
+        Self::from_json(&path.display().to_string(), &read_text(path)?)
     }
+
+    /// Reads stored fits from `path` ([`FitsFile::from_json_unchecked`]).
+    pub fn read_unchecked(path: &Path) -> Result<Self, FitsFileError> {
+        Self::from_json_unchecked(&path.display().to_string(), &read_text(path)?)
+    }
+}
+
+/// The text of a fits file.
+fn read_text(path: &Path) -> Result<String, FitsFileError> {
+    std::fs::read_to_string(path).map_err(|source| FitsFileError::Io {
+        path: path.display().to_string(),
+        source,
+    })
 }
 
 #[cfg(test)]

@@ -19,7 +19,7 @@ use stfit_fit::{FitResult, Measurement, Sample};
 use crate::figures::{LARGE, curve_chart, draw_title, fmt_tick};
 use crate::render::Figure;
 use crate::style::{AnglePalette, GREY, Glyph, LegendEntry, bold, draw_header, fmt_deg, text};
-use crate::view::{ModelSlot, sample_title};
+use crate::view::{ModelSlot, NotDrawn, sample_title};
 use crate::{ReportError, YScale};
 
 /// Spacing of the model curves along the plane of incidence, degrees.
@@ -106,6 +106,7 @@ impl<'a> GeneralView<'a> {
         sample: &'a Sample,
         fits: [Option<&'a FitResult>; 4],
         y: YScale,
+        not_drawn: &mut Vec<NotDrawn<'a>>,
     ) -> Result<Self, ReportError> {
         if sample.points.is_empty() {
             return Err(ReportError::EmptySample(sample.name.clone()));
@@ -153,7 +154,7 @@ impl<'a> GeneralView<'a> {
         let mut panels: [Option<GeneralPanel<'a>>; 4] = Default::default();
         for (panel, fit) in panels.iter_mut().zip(fits) {
             if let Some(fit) = fit {
-                *panel = Some(panel_of(fit, &incidences, &members, y)?);
+                *panel = NotDrawn::catch(panel_of(fit, &incidences, &members, y), fit, not_drawn)?;
             }
         }
         Ok(Self {

@@ -36,7 +36,7 @@ pub use error::ReportError;
 pub use figures::{clip_below, fmt_tick};
 pub use style::fmt_sig;
 pub use table::{fits_markdown, fits_table, warning_codes};
-pub use view::ModelSlot;
+pub use view::{ModelSlot, NotDrawn};
 
 use figures::{NdfFigure, OverviewFigure, SampleFigure};
 use general::{GeneralView, PlaneFigure, PolarFigure};
@@ -224,11 +224,17 @@ pub fn render_report(
     // In-plane samples get the Walter-form figures, general samples theirs.
     let mut in_plane = Vec::new();
     let mut general = Vec::new();
+    let mut not_drawn = Vec::new();
     for (sample, fits) in data.samples.iter().zip(slots) {
         if sample.is_in_plane() {
-            in_plane.push(SampleView::new(sample, fits, opts)?);
+            in_plane.push(SampleView::new(sample, fits, opts, &mut not_drawn)?);
         } else {
-            general.push(GeneralView::new(sample, fits, opts.y_scale)?);
+            general.push(GeneralView::new(
+                sample,
+                fits,
+                opts.y_scale,
+                &mut not_drawn,
+            )?);
         }
     }
     let palette = AnglePalette::new(
@@ -258,7 +264,7 @@ pub fn render_report(
                 .collect(),
         ));
     }
-    let mut warnings = Vec::new();
+    let mut warnings: Vec<String> = not_drawn.iter().map(NotDrawn::message).collect();
     for (title, checks) in &rmse_checks {
         for &(fit, recomputed) in checks {
             let stored = fit.rmse_sqrt_l;
@@ -359,7 +365,14 @@ pub fn render_report(
         .collect();
     files.push(ReportFile {
         name: "fits.md".to_string(),
-        contents: fits_markdown(&by_sample, &figure_names, !in_plane.is_empty(), opts).into_bytes(),
+        contents: fits_markdown(
+            &by_sample,
+            &not_drawn,
+            &figure_names,
+            !in_plane.is_empty(),
+            opts,
+        )
+        .into_bytes(),
     });
     Ok(Report { files, warnings })
 }

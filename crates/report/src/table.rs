@@ -6,7 +6,7 @@ use std::fmt::Write;
 use stfit_fit::{FitResult, FitWarning, Gamma, Measured};
 
 use crate::style::fmt_sig;
-use crate::view::ModelSlot;
+use crate::view::{ModelSlot, NotDrawn};
 use crate::{ReportOptions, YScale, model_description};
 
 /// `value ± stderr` with `digits` significant digits of the value and two of the error, or the
@@ -162,10 +162,12 @@ pub fn fits_table(fits: &[FitResult]) -> String {
 
 /// The markdown of `fits.md`: one table row per fit, grouped by sample in data order and by
 /// model in panel order, each naming the model actually fitted (orders, masking, eta); the
-/// lowest rmse of each sample in bold. `figures` lists, per sample, its name and its figures
+/// lowest rmse of each sample in bold; `not_drawn` are listed under their own heading.
+/// `figures` lists, per sample, its name and its figures
 /// as `(what, file)`; `overview` says whether the report has an overview figure.
 pub fn fits_markdown(
     samples: &[(&str, Vec<&FitResult>)],
+    not_drawn: &[NotDrawn<'_>],
     figures: &[(String, Vec<(&str, String)>)],
     overview: bool,
     opts: &ReportOptions,
@@ -254,6 +256,17 @@ pub fn fits_markdown(
                     sample_cell(&fit.label()).replace('|', "\\|")
                 );
             }
+        }
+    }
+    if !not_drawn.is_empty() {
+        md.push_str("\n## Not drawn\n\n");
+        for n in not_drawn {
+            let _ = writeln!(
+                md,
+                "- {}: the stored model cannot be evaluated ({}); the panel shows the data alone",
+                sample_cell(&n.fit.label()).replace('|', "\\|"),
+                n.reason.replace('|', "\\|")
+            );
         }
     }
     md.push_str("\n## Figures\n\n");

@@ -197,6 +197,45 @@ fn panel_view<'a>(
     })
 }
 
+/// A stored fit whose model cannot be evaluated (parameters outside the supported ranges, say,
+/// in a hand-edited fits file): the report names it in its warnings and in `fits.md`, draws its
+/// panel with the data alone and leaves it out of the table.
+#[derive(Debug, Clone)]
+pub struct NotDrawn<'a> {
+    pub fit: &'a FitResult,
+    /// Why the model cannot be evaluated.
+    pub reason: String,
+}
+
+impl<'a> NotDrawn<'a> {
+    /// The panel of `fit`, or `None` with `fit` added to `not_drawn` when its model cannot be
+    /// evaluated; other errors pass through.
+    pub(crate) fn catch<P>(
+        panel: Result<P, ReportError>,
+        fit: &'a FitResult,
+        not_drawn: &mut Vec<NotDrawn<'a>>,
+    ) -> Result<Option<P>, ReportError> {
+        match panel {
+            Ok(p) => Ok(Some(p)),
+            Err(ReportError::InvalidFit { reason, .. }) => {
+                not_drawn.push(NotDrawn { fit, reason });
+                Ok(None)
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// The warning of the report: the fit, why, and what was left out.
+    pub fn message(&self) -> String {
+        format!(
+            "{}: the stored model cannot be evaluated ({}); its curves are not drawn and it is \
+             left out of the table",
+            self.fit.label(),
+            self.reason
+        )
+    }
+}
+
 /// A sample's name for titles: `(unnamed)` for a file without a `sample` column.
 pub(crate) fn sample_title(name: &str) -> &str {
     if name.is_empty() { "(unnamed)" } else { name }
@@ -213,6 +252,7 @@ impl<'a> SampleView<'a> {
         sample: &'a Sample,
         fits: [Option<&'a FitResult>; 4],
         opts: &ReportOptions,
+        not_drawn: &mut Vec<NotDrawn<'a>>,
     ) -> Result<Self, ReportError> {
         if sample.points.is_empty() {
             return Err(ReportError::EmptySample(sample.name.clone()));
@@ -227,7 +267,7 @@ impl<'a> SampleView<'a> {
         let mut panels: [Option<PanelView<'a>>; 4] = Default::default();
         for (panel, fit) in panels.iter_mut().zip(fits) {
             if let Some(fit) = fit {
-                *panel = Some(panel_view(fit, &groups, (x0, x1), opts)?);
+                *panel = NotDrawn::catch(panel_view(fit, &groups, (x0, x1), opts), fit, not_drawn)?;
             }
         }
         Ok(Self {

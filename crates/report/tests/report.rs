@@ -381,6 +381,7 @@ fn fits_markdown_lists_every_fit_and_marks_the_best() {
     let direct = fits_markdown(
         &[("x", all[..4].iter().collect())],
         &[],
+        &[],
         true,
         &ReportOptions::default(),
     );
@@ -426,12 +427,37 @@ fn bad_fits_are_typed_errors() {
         |f: &mut FitResult| f.model.gamma = Gamma::NotApplicable,
         |f: &mut FitResult| f.model.eta = 1.0,
     ] {
+        // A stored model that cannot be evaluated is named, its panel shows the data alone and
+        // the other fits are still drawn.
         let mut f = fits(&data);
         bad(&mut f[3]);
-        assert!(matches!(
-            render_report(&data, &f, &opts),
-            Err(ReportError::InvalidFit { .. })
-        ));
+        let report = render_report(&data, &f, &opts).unwrap();
+        let label = f[3].label();
+        let named: Vec<_> = report
+            .warnings
+            .iter()
+            .filter(|w| w.contains(&label) && w.contains("cannot be evaluated"))
+            .collect();
+        assert_eq!(named.len(), 1, "{:?}", report.warnings);
+        let md = String::from_utf8(
+            report
+                .files
+                .iter()
+                .find(|x| x.name == "fits.md")
+                .unwrap()
+                .contents
+                .clone(),
+        )
+        .unwrap();
+        assert!(md.contains("## Not drawn") && md.contains(&label), "{md}");
+        let sample = &f[3].sample;
+        let rows = md
+            .lines()
+            .filter(|l| l.starts_with(&format!("| {sample} |")))
+            .count();
+        assert_eq!(rows, 3, "{md}");
+        let good = render_report(&data, &fits(&data), &opts).unwrap();
+        assert!(!good.warnings.iter().any(|w| w.contains("cannot be evaluated")));
     }
 
     let empty = Dataset {
