@@ -256,7 +256,10 @@ fn stored_fits_outside_the_ranges_are_named_by_report_and_refused_by_export() {
     );
     assert!(!run.stderr.contains("panicked"), "{}", run.stderr);
     let md = std::fs::read_to_string(out.join("fits.md")).unwrap();
-    assert!(md.contains("## Not drawn") && md.contains("sample 's', ggx"), "{md}");
+    assert!(
+        md.contains("## Not drawn") && md.contains("sample 's', ggx"),
+        "{md}"
+    );
     let rows = md.lines().filter(|l| l.starts_with("| s |")).count();
     assert_eq!(rows, 3, "{md}");
     let svg = std::fs::read_to_string(out.join("s-fits.svg")).unwrap();

@@ -895,8 +895,12 @@ fn standard_errors(
         return Ok(None);
     };
     if let Some(term) = term {
+        // The slope over one standard error of the term: where the model is far above its
+        // Monte Carlo error this is the derivative of the first-order propagation; where the
+        // model is near 0 (a Beckmann tail underflowing at grazing pairs) the square root's
+        // derivative is unbounded and would make every standard error infinite.
         for (k, v) in walk_variance(&cols, term, |j| {
-            sw[j] * proj.d_transform_d_model(scale, m[j])
+            sw[j] * proj.model_slope(scale, m[j], term.stderr_at(j))
         })
         .into_iter()
         .enumerate()
@@ -924,7 +928,8 @@ fn standard_errors(
 /// The variances of the fitted parameters due to the Monte Carlo error of the orders >= 2
 /// `term`, to first order: a change `delta` of the unit-scale model moves the least-squares
 /// optimum by `-(J^T J)^{-1} J^T diag(g) delta`, `g_j = sqrt(w_j) d T(scale m_j) / d m_j`
-/// (`cols` the columns of `J`), whose variance [`WalkTerm::variance_of`] estimates from the
+/// (taken as the caller's secant over the term's standard error; `cols` the columns of `J`),
+/// whose variance [`WalkTerm::variance_of`] estimates from the
 /// independent batches of walks. Zeros if `J^T J` is numerically singular.
 fn walk_variance(cols: &[Vec<f64>], term: &WalkTerm, g: impl Fn(usize) -> f64) -> Vec<f64> {
     let (p, n) = (cols.len(), term.values.len());

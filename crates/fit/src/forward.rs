@@ -297,6 +297,9 @@ impl WalkTerm {
         let groups = self.group.iter().copied().max().map_or(0, |g| g + 1);
         let mut dev = vec![vec![0.0; b]; groups];
         for (j, &g) in self.group.iter().enumerate() {
+            if a[j] == 0.0 {
+                continue;
+            }
             for (c, d) in dev[g].iter_mut().enumerate() {
                 *d += a[j] * (self.batches[j][c] - self.values[j]);
             }
@@ -310,6 +313,14 @@ impl WalkTerm {
             })
             .sum();
         sum * b as f64 / (b - 1) as f64
+    }
+
+    /// The Monte Carlo standard error of `values[j]` ([`WalkTerm::variance_of`] of the
+    /// functional picking configuration `j`).
+    pub fn stderr_at(&self, j: usize) -> f64 {
+        let mut a = vec![0.0; self.values.len()];
+        a[j] = 1.0;
+        self.variance_of(&a).sqrt()
     }
 }
 

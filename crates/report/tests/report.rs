@@ -457,7 +457,12 @@ fn bad_fits_are_typed_errors() {
             .count();
         assert_eq!(rows, 3, "{md}");
         let good = render_report(&data, &fits(&data), &opts).unwrap();
-        assert!(!good.warnings.iter().any(|w| w.contains("cannot be evaluated")));
+        assert!(
+            !good
+                .warnings
+                .iter()
+                .any(|w| w.contains("cannot be evaluated"))
+        );
     }
 
     let empty = Dataset {
