@@ -259,7 +259,7 @@ fn fits_of(stdout: &str) -> Vec<serde_json::Value> {
 
 /// The keys of one fit: those of stfit 0.1 (whose names and meanings stay) and those added
 /// since, which record the model and how it was fitted.
-const KEYS: [&str; 27] = [
+const KEYS: [&str; 28] = [
     "alpha",
     "alpha_stderr",
     "data",
@@ -275,6 +275,7 @@ const KEYS: [&str; 27] = [
     "masking",
     "measured",
     "model",
+    "multiple_term",
     "n_points",
     "optimizer",
     "orders",
@@ -681,7 +682,8 @@ fn stored_example_data_and_fits_are_reproduced() {
 }
 
 /// The fits of `--model all --orders all` on two samples run in parallel: with
-/// `RAYON_NUM_THREADS=1` and `=2` the JSON is byte-identical.
+/// `RAYON_NUM_THREADS=1` and `=2` the JSON is byte-identical, and every fit records the
+/// default surrogate orders >= 2 term it was searched with.
 #[test]
 fn fit_json_does_not_depend_on_the_thread_count() {
     let dir = CaseDir::new("threads");
@@ -728,9 +730,8 @@ fn fit_json_does_not_depend_on_the_thread_count() {
         out.stdout
     };
     let one = run("1");
-    assert_eq!(
-        String::from_utf8_lossy(&one).matches("\"sample\"").count(),
-        8
-    );
+    let text = String::from_utf8_lossy(&one);
+    assert_eq!(text.matches("\"sample\"").count(), 8);
+    assert_eq!(text.matches("\"multiple_term\": \"surrogate\"").count(), 8);
     assert_eq!(one, run("2"));
 }

@@ -243,6 +243,12 @@ impl PyFitResult {
     fn optimizer(&self) -> &'static str {
         self.0.optimizer.name()
     }
+    /// For an all-orders fit, how the search computed the orders >= 2 term: `surrogate` or
+    /// `exact` (None for single scattering).
+    #[getter]
+    fn multiple_term(&self) -> Option<&'static str> {
+        self.0.multiple_term.map(|t| t.name())
+    }
     /// What the fitted points measure: `L`, `bsdf` or `L+bsdf`.
     #[getter]
     fn measured(&self) -> PyResult<String> {

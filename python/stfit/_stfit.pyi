@@ -194,6 +194,7 @@ class FitResult:
     loss: str
     log_floor: Optional[float]
     optimizer: str
+    multiple_term: Optional[str]
     measured: str
     rmse_sqrt_l: float
     n_points: int

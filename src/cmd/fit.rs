@@ -93,7 +93,8 @@ pub struct FitOptionArgs {
     pub seed: u64,
     /// How --orders all computes the orders >= 2 term while it searches: a quadratic
     /// surrogate interpolating walk estimates at a few parameter points (fast), or fresh walks
-    /// at every evaluation (exact, slow); both report the fit with the walks at the optimum.
+    /// at every evaluation (exact, slow); both report the fit with the walks at the optimum,
+    /// and the JSON records which (`multiple_term`).
     #[arg(long, value_enum, default_value_t = MultipleTermArg::Surrogate)]
     pub multiple_term: MultipleTermArg,
 }

@@ -800,6 +800,7 @@ fn finish(
         loss: opts.loss,
         log_floor: (opts.loss == Loss::Log).then_some(opts.log_floor),
         optimizer: opts.optimizer,
+        multiple_term: (opts.orders == ScatteringOrders::All).then_some(opts.multiple_term),
         measured: prep.measured,
         rmse_sqrt_l,
         n_points: n,
