@@ -393,3 +393,40 @@ fn huge_and_odd_names_are_shortened_and_escaped() {
     assert_eq!(table.ok().lines().count(), 2, "{}", table.stdout);
     assert!(table.stdout.contains("a\\nb\\tc"));
 }
+
+/// Runs that take a moment are not announced: the pilot that estimates the cost of the walks
+/// prints nothing (a note comes only above `LONG_RUN_SECONDS`, see `walk::WalkCost`), and the
+/// estimates are those of the seed, pilot or not.
+#[test]
+fn short_walk_runs_print_no_cost_note() {
+    let args = [
+        "albedo",
+        "--ndf",
+        "student-t",
+        "--alpha",
+        "0.5",
+        "--gamma",
+        "1.6",
+        "--eta",
+        "1.5",
+        "--theta-i",
+        "30",
+        "--walks",
+        "5000",
+        "--json",
+    ];
+    let a = stfit(&args);
+    let b = stfit(&args);
+    assert_eq!(a.ok(), b.ok());
+    assert!(a.stderr.is_empty(), "{}", a.stderr);
+    let pairs = "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,-1\n0.6,0,0.8,0,0,-1\n";
+    let e = stfit_in(
+        &[
+            "eval", "--ndf", "ggx", "--alpha", "0.3", "--eta", "1.5", "--orders", "all", "--walks",
+            "2000",
+        ],
+        pairs,
+    );
+    e.ok();
+    assert!(e.stderr.is_empty(), "{}", e.stderr);
+}

@@ -291,18 +291,17 @@ impl PyFitResult {
     fn data(&self) -> Option<&str> {
         self.0.data.as_deref()
     }
+    /// Why the fit cannot be trusted as it stands: one dict per reason, with its `kind` and
+    /// details, as in the fits JSON (`fits-format.md`); empty for a sound fit, and a fit with
+    /// any warning has no standard errors.
+    #[getter]
+    fn warnings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let text = serde_json::to_string(&self.0.warnings).map_err(value_error)?;
+        py.import("json")?.call_method1("loads", (text,))
+    }
     #[getter]
     fn stfit_version(&self) -> &str {
         &self.0.stfit_version
-    }
-    /// Why the fit cannot be trusted as it stands: one dict per reason, with a `kind`
-    /// (`at-bound`, `singular-curvature`, `few-informative-points`) and its details, as in the
-    /// fits JSON; empty for a sound fit (a fit with warnings has no standard errors).
-    #[getter]
-    fn warnings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let text =
-            serde_json::to_string(&self.0.warnings).expect("warnings are plain data and serialise");
-        py.import("json")?.call_method1("loads", (text,))
     }
 
     /// The fit as named in messages, such as `sample 'frosted', student-t (gamma = 3)`.

@@ -1,12 +1,13 @@
 //! `stfit._stfit`, the Python extension of stfit (imported as `stfit`): thin conversions between
 //! NumPy arrays or Python values and the library crates (`stfit-core`, `stfit-fit`,
-//! `stfit-report`, `stfit-tables`), which hold every formula and rule. Batches run with the GIL released, on
+//! `stfit-report`, `stfit-tables`, `stfit-export`), which hold every formula and rule. Batches run with the GIL released, on
 //! rayon's threads when they are large.
 
 mod arrays;
 mod bsdf;
 mod data;
 mod errors;
+mod export;
 mod fit;
 mod ndf;
 mod tables;
@@ -35,6 +36,7 @@ fn _stfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit::read_fits, m)?)?;
     m.add_function(wrap_pyfunction!(fit::synth, m)?)?;
     m.add_function(wrap_pyfunction!(fit::report, m)?)?;
+    m.add_function(wrap_pyfunction!(export::export, m)?)?;
     m.add_class::<tables::PyTable>()?;
     m.add_function(wrap_pyfunction!(tables::table_shard, m)?)?;
     m.add_function(wrap_pyfunction!(tables::merge_table_shards, m)?)?;

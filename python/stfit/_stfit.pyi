@@ -7,6 +7,7 @@ direction whose norm differs from 1 by more than 1e-6 raises ``ValueError``.
 """
 
 import os
+import pathlib
 from typing import Any, Mapping, Optional, Sequence, Union
 
 import numpy as np
@@ -204,9 +205,10 @@ class FitResult:
     scale_stderr: Optional[float]
     iterations: int
     data: Optional[str]
-    stfit_version: str
     warnings: list[dict[str, Any]]
-    """Why the fit cannot be trusted as it stands (dicts with a ``kind``, as in the fits JSON); empty for a sound fit."""
+    """Why the fit cannot be trusted as it stands (one dict per reason, with its ``kind``);
+    empty for a sound fit. A fit with any warning has no standard errors."""
+    stfit_version: str
     def label(self) -> str: ...
     def predict(self, theta_i_deg: Sequence[float], theta_o_deg: Sequence[float]) -> list[float]:
         """The fitted model's ``L`` at in-plane configurations (theta_i in [0, 90), theta_o in (90, 270))."""
@@ -293,10 +295,41 @@ def report(
     walks: int = 20_000,
     seed: int = 1,
     multiple_term: str = "surrogate",
-) -> list[str]:
+) -> list[pathlib.Path]:
     """Writes the report of ``stfit report`` into ``out``: comparison figures (SVG, PNG) and
     fits.md. Without ``fits``, the four models are fitted first with the options given.
     Returns the paths written; non-fatal findings are issued as warnings."""
+
+def export(
+    fits: Union[FitResult, Sequence[FitResult], PathLike],
+    to: str,
+    *,
+    sample: Optional[str] = None,
+    model: Optional[str] = None,
+    out: Optional[PathLike] = None,
+    layer: str = "pane",
+    absorption: float = 0.0,
+    walks: int = 65_536,
+    seed: int = 1,
+) -> Union[str, list[pathlib.Path]]:
+    """Exports stored fits as ``stfit export`` does (the same code, texts byte for byte).
+
+    ``fits``: a ``FitResult``, a sequence of them, or the path of a fits file. ``to``: the
+    target, ``mitsuba3``, ``pbrt-v4``, ``cycles``, ``appleseed``, ``openpbr``, ``vray`` or
+    ``radiance`` (LBNL WINDOW BSDF XML, Klems full basis). ``sample`` and ``model``
+    (``beckmann``, ``ggx``, ``student-t``: gamma fitted, ``student-t-fixed``: gamma held)
+    select fits. Without ``out``, returns the text ``stfit export`` prints. With ``out`` a
+    file, writes one file of each type (several fits go into it; the first type at ``out``,
+    the others beside it with their own extension, such as Mitsuba's ``.xml`` and ``.py``);
+    with ``out`` an existing folder, one file per fit named ``SAMPLE_MODEL-TARGET.EXT``; then
+    returns the paths written. Radiance writes one file per fit, so several fits need a folder.
+
+    Radiance options: ``layer`` ``pane`` (the rough face over a smooth back face, with all
+    inter-reflections) or ``interface`` (the single rough interface); ``absorption``: the
+    fraction absorbed in one normal crossing of the pane, in [0, 1); ``walks``: random walks
+    per Klems patch where walks are needed; ``seed``: their seed. They are refused for other
+    targets. Clamps and other departures from the fit are issued as warnings; a bad option or
+    fit raises ``ValueError``, an unreadable file ``OSError``."""
 
 def table_shard(spec: str, index: int = 1, count: int = 1) -> str:
     """Computes shard ``index`` of ``count`` of a directional-albedo (energy) table, ``spec``

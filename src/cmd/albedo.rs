@@ -2,9 +2,7 @@
 //! by the height-field or the null-scattering random walk.
 
 use super::surface::{SurfaceArgs, flags};
-use super::{CmdResult, OrdersArg, Retired, print_stdout, usage};
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
+use super::{CmdResult, OrdersArg, Retired, long_run, print_stdout, usage};
 use stfit_core::Vec3;
 use stfit_core::math::radians;
 use stfit_core::walk::{AlbedoEstimate, DEFAULT_ALBEDO_WALKS, Estimator, defined_stderr};
@@ -57,19 +55,10 @@ pub fn run(args: &Args) -> CmdResult {
     print_stdout(&format_result(args, &result))
 }
 
-/// Runs the walks, with a progress bar when both output streams are terminals.
+/// Runs the walks, announcing a long run and drawing a progress bar on a terminal
+/// ([`long_run::announce`]).
 fn estimate(walk: &dyn Estimator, wi: Vec3, args: &Args) -> AlbedoEstimate {
-    let show = !args.json
-        && std::io::stdout().is_terminal()
-        && std::io::stderr().is_terminal()
-        && args.walks >= 1_000_000;
-    let bar = show.then(|| {
-        let bar = ProgressBar::new(args.walks);
-        if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} walks, eta {eta}") {
-            bar.set_style(style);
-        }
-        bar
-    });
+    let bar = long_run::announce(walk, wi, args.walks, args.seed);
     let progress = |n| {
         if let Some(bar) = &bar {
             bar.inc(n);

@@ -14,11 +14,13 @@ use std::path::Path;
 
 use stfit_core::bsdf::AnalyticBsdf;
 use stfit_core::surface::Evaluation;
-use stfit_core::walk::{DEFAULT_EVAL_WALKS, defined_stderr, eval_pairs};
+use stfit_core::walk::{
+    DEFAULT_EVAL_WALKS, defined_stderr, distinct_incidences, eval_pairs_with_progress,
+};
 use stfit_fit::pairs::read_pairs;
 
 use super::surface::{SurfaceArgs, flags};
-use super::{CmdResult, MaskingArg, OrdersArg, Retired, failed, usage};
+use super::{CmdResult, MaskingArg, OrdersArg, Retired, failed, long_run, usage};
 
 /// Arguments of `stfit eval`.
 #[derive(Debug, Clone, clap::Args)]
@@ -79,7 +81,26 @@ pub fn run(args: &Args) -> CmdResult {
             table.write_with(&mut out, &values, None)
         }
         Evaluation::Walk(walk) => {
-            let est = eval_pairs(walk.as_ref(), &table.pairs, args.walks, args.seed);
+            let incidences = distinct_incidences(&table.pairs);
+            let bar = incidences.first().and_then(|&wi| {
+                let walks = args.walks.saturating_mul(incidences.len() as u64);
+                long_run::announce(walk.as_ref(), wi, walks, args.seed)
+            });
+            let progress = |n| {
+                if let Some(bar) = &bar {
+                    bar.inc(n);
+                }
+            };
+            let est = eval_pairs_with_progress(
+                walk.as_ref(),
+                &table.pairs,
+                args.walks,
+                args.seed,
+                &progress,
+            );
+            if let Some(bar) = bar {
+                bar.finish_and_clear();
+            }
             let values: Vec<f64> = est.iter().map(|e| e.mean).collect();
             let stderr: Vec<Option<f64>> = est
                 .iter()

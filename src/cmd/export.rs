@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use clap::{Args as ClapArgs, ValueEnum};
 use stfit_export::radiance::{DEFAULT_WALKS_PER_PATCH, LayerKind, QuadratureRule, RadianceOptions};
-use stfit_export::{Selection, Target, export_fit, file_name, fit_identifier, join};
+use stfit_export::{BatchError, Destination, FitExport, Selection, Target, export_fits};
 use stfit_fit::{FitsFile, ModelKind};
 
 use super::{CmdResult, Retired, failed, print_stdout, usage, write_file};
@@ -142,61 +142,36 @@ pub fn run(args: &Args) -> CmdResult {
         }),
     };
     let file = FitsFile::read(&args.fits).map_err(failed)?;
-    let fits: Vec<_> = file.fits.iter().filter(|f| selection.matches(f)).collect();
-    if fits.is_empty() {
-        return Err(failed(format!(
-            "{}: no fit matches the selection",
-            args.fits.display()
-        )));
-    }
-    let folder = args.out.as_deref().filter(|p| p.is_dir());
-    if target == Target::Radiance && fits.len() > 1 && folder.is_none() {
-        return Err(usage(
-            "radiance writes one BSDF file per fit: select one fit (--sample, --model) or give --out an existing folder",
-        ));
-    }
-    let mut exports = Vec::with_capacity(fits.len());
-    for fit in fits {
-        let id = fit_identifier(fit);
-        let export = export_fit(fit, target, &radiance)
-            .map_err(|e| failed(format!("{}: {}: {e}", args.fits.display(), fit.label())))?;
+    let dest = match args.out.as_deref() {
+        None => Destination::Stdout,
+        Some(p) if p.is_dir() => Destination::Folder(p),
+        Some(p) => Destination::File(p),
+    };
+    let batch =
+        export_fits(&file.fits, &selection, target, &radiance, dest).map_err(|e| match e {
+            BatchError::OneFilePerFit => usage(
+                "radiance writes one BSDF file per fit: select one fit (--sample, --model) or give --out an existing folder",
+            ),
+            e => failed(format!("{}: {e}", args.fits.display())),
+        })?;
+    for FitExport { id, export } in &batch.exports {
         for w in &export.warnings {
             eprintln!("warning: {id}: {w}");
         }
         if let Some(t) = &export.translation {
             eprintln!("{id}: {}", t.summary());
         }
-        if let Some(dir) = folder {
-            for f in &export.files {
-                let path = dir.join(file_name(&id, target, f.extension));
-                write_file(&path, &f.text)?;
-                println!("{}", path.display());
+    }
+    for out in &batch.outputs {
+        match &out.path {
+            Some(path) => {
+                write_file(path, &out.text)?;
+                if matches!(dest, Destination::Folder(_)) {
+                    println!("{}", path.display());
+                }
             }
+            None => print_stdout(&out.text)?,
         }
-        exports.push(export);
     }
-    if folder.is_some() {
-        return Ok(());
-    }
-    let joined = join(&exports);
-    match &args.out {
-        Some(out) => {
-            for (k, f) in joined.iter().enumerate() {
-                let path = if k == 0 {
-                    out.clone()
-                } else {
-                    out.with_extension(f.extension)
-                };
-                write_file(&path, &f.text)?;
-            }
-            Ok(())
-        }
-        None => print_stdout(
-            &joined
-                .iter()
-                .map(|f| f.text.as_str())
-                .collect::<Vec<_>>()
-                .join("\n"),
-        ),
-    }
+    Ok(())
 }

@@ -14,6 +14,7 @@ pub mod albedo;
 pub mod eval;
 pub mod export;
 pub mod fit;
+pub mod long_run;
 pub mod report;
 pub mod surface;
 pub mod synth;

@@ -8,6 +8,8 @@
 //!   represent the fit exactly, the renderer's BSDF (implemented here after its source,
 //!   [`target`], [`gtr`]) is fitted to the fitted BSDF over the sphere of directions with
 //!   stfit's own optimiser ([`translate`]).
+//! - [`export_fits`]: the exports of a set of stored fits, selected, named and laid out in files
+//!   as `stfit export` writes them ([`batch`]).
 //! - [`radiance`]: an LBNL WINDOW BSDF XML file (Klems full basis) of a pane or of the single
 //!   rough interface, the format Radiance and WINDOW read for glazing.
 //!
@@ -17,6 +19,7 @@
 //! equation (the same function as pbrt-v4's radiance-mode `f(wo = view, wi = light)` and
 //! Mitsuba 3's importance-mode `eval(wi = light, wo)`), so it compares with renderers directly.
 
+pub mod batch;
 pub mod directions;
 pub mod error;
 pub mod gtr;
@@ -26,6 +29,7 @@ pub mod target;
 pub mod targets;
 pub mod translate;
 
+pub use batch::{Batch, BatchError, Destination, FitExport, Output, export_fits};
 pub use error::ExportError;
 pub use model::ExportModel;
 pub use targets::{Export, ExportFile, Selection, Target, file_name, fit_identifier, join};

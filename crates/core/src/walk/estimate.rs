@@ -234,10 +234,45 @@ pub fn eval_pairs(
     walks: u64,
     seed: u64,
 ) -> Vec<Estimate> {
-    eval_pairs_batched(estimator, pairs, walks, seed)
+    eval_pairs_with_progress(estimator, pairs, walks, seed, &|_| {})
+}
+
+/// [`eval_pairs`], calling `progress(walks)` after the walks of each incident direction.
+pub fn eval_pairs_with_progress(
+    estimator: &dyn Estimator,
+    pairs: &[(Vec3, Vec3)],
+    walks: u64,
+    seed: u64,
+    progress: &dyn Fn(u64),
+) -> Vec<Estimate> {
+    batched_pairs(estimator, pairs, walks, seed, progress)
         .into_iter()
         .map(|p| p.estimate)
         .collect()
+}
+
+/// The distinct incident directions of `pairs` (bit for bit, `-0.0` as `0.0`), in order of
+/// first appearance: the walks [`eval_pairs`] runs are `walks` per direction.
+pub fn distinct_incidences(pairs: &[(Vec3, Vec3)]) -> Vec<Vec3> {
+    incidence_groups(pairs)
+        .into_iter()
+        .map(|(wi, _)| wi)
+        .collect()
+}
+
+/// The pairs grouped by incident direction, in order of first appearance, by hashing.
+fn incidence_groups(pairs: &[(Vec3, Vec3)]) -> Vec<(Vec3, Vec<usize>)> {
+    let key = |w: &Vec3| [w.x + 0.0, w.y + 0.0, w.z + 0.0].map(f64::to_bits);
+    let mut groups: Vec<(Vec3, Vec<usize>)> = Vec::new();
+    let mut index: std::collections::HashMap<[u64; 3], usize> = std::collections::HashMap::new();
+    for (k, (wi, _)) in pairs.iter().enumerate() {
+        let g = *index.entry(key(wi)).or_insert_with(|| {
+            groups.push((*wi, Vec::new()));
+            groups.len() - 1
+        });
+        groups[g].1.push(k);
+    }
+    groups
 }
 
 /// The estimate of one pair by [`eval_pairs_batched`]: the estimate, the index of the group of
@@ -259,16 +294,18 @@ pub fn eval_pairs_batched(
     walks: u64,
     seed: u64,
 ) -> Vec<PairEstimate> {
-    let key = |w: &Vec3| [w.x + 0.0, w.y + 0.0, w.z + 0.0].map(f64::to_bits);
-    let mut groups: Vec<(Vec3, Vec<usize>)> = Vec::new();
-    let mut index: std::collections::HashMap<[u64; 3], usize> = std::collections::HashMap::new();
-    for (k, (wi, _)) in pairs.iter().enumerate() {
-        let g = *index.entry(key(wi)).or_insert_with(|| {
-            groups.push((*wi, Vec::new()));
-            groups.len() - 1
-        });
-        groups[g].1.push(k);
-    }
+    batched_pairs(estimator, pairs, walks, seed, &|_| {})
+}
+
+/// [`eval_pairs_batched`], calling `progress(walks)` after each incident direction.
+fn batched_pairs(
+    estimator: &dyn Estimator,
+    pairs: &[(Vec3, Vec3)],
+    walks: u64,
+    seed: u64,
+    progress: &dyn Fn(u64),
+) -> Vec<PairEstimate> {
+    let groups = incidence_groups(pairs);
     let mut out = vec![None; pairs.len()];
     for (g, (wi, members)) in groups.iter().enumerate() {
         let wos: Vec<Vec3> = members.iter().map(|&k| pairs[k].1).collect();
@@ -280,6 +317,7 @@ pub fn eval_pairs_batched(
                 batch_means: b.batches.iter().map(|c| c[i]).collect(),
             });
         }
+        progress(walks);
     }
     out.into_iter()
         .map(|p| p.expect("every pair is in a group"))

@@ -41,16 +41,18 @@
 //! [`MAX_BOUNCES`] scattering events (far above any real path) ends runaway walks, and the
 //! estimators report the energy it drops.
 
+mod cost;
 mod engine;
 mod estimate;
 mod facet;
 mod microsurface;
 mod null;
 
+pub use cost::{LONG_RUN_SECONDS, PILOT_WALKS, WalkCost, describe_seconds};
 pub use engine::{WalkEnd, WalkSample};
 pub use estimate::{
     AlbedoEstimate, Batched, CHUNK, Estimate, Estimator, PairEstimate, chunk_walks, defined_stderr,
-    direction_seed, eval_pairs, eval_pairs_batched,
+    direction_seed, distinct_incidences, eval_pairs, eval_pairs_batched, eval_pairs_with_progress,
 };
 pub use facet::{
     BsdfFacet, ConductorFacet, DielectricFacet, Facet, FacetSample, HeightFieldHit,

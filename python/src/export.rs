@@ -1,0 +1,170 @@
+//! `stfit.export`: stored fits as renderer materials or Radiance/WINDOW BSDF files
+//! (`stfit-export`), with the targets, options and defaults of `stfit export`.
+
+use std::path::PathBuf;
+
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use stfit_export::radiance::{DEFAULT_WALKS_PER_PATCH, LayerKind, QuadratureRule, RadianceOptions};
+use stfit_export::{BatchError, Destination, Selection, Target, export_fits};
+use stfit_fit::{FitResult, FitsFile, ModelKind};
+
+use crate::errors::{arg_error, os_error, value_error};
+use crate::fit::PyFitResult;
+
+/// The target named as on the command line (`--to`).
+fn target(name: &str) -> PyResult<Target> {
+    Target::ALL
+        .into_iter()
+        .find(|t| t.name() == name)
+        .ok_or_else(|| {
+            let names: Vec<_> = Target::ALL.iter().map(|t| t.name()).collect();
+            arg_error(
+                "to",
+                format!("unknown target '{name}' (expected {})", names.join(", ")),
+            )
+        })
+}
+
+/// The selection of `sample` and `model` (`beckmann`, `ggx`, `student-t`: gamma fitted,
+/// `student-t-fixed`: gamma held), as `--sample` and `--model`.
+fn selection(sample: Option<&str>, model: Option<&str>) -> PyResult<Selection> {
+    let (kind, gamma_fixed) = match model {
+        None => (None, None),
+        Some("student-t-fixed") => (Some(ModelKind::StudentT), Some(true)),
+        Some(name) => {
+            let kind: ModelKind = name.parse().map_err(|_| {
+                arg_error(
+                    "model",
+                    format!(
+                        "unknown model '{name}' (expected beckmann, ggx, student-t or \
+                         student-t-fixed)"
+                    ),
+                )
+            })?;
+            let fixed = (kind == ModelKind::StudentT).then_some(false);
+            (Some(kind), fixed)
+        }
+    };
+    Ok(Selection {
+        sample: sample.map(str::to_owned),
+        kind,
+        gamma_fixed,
+    })
+}
+
+/// The fits of `fits`: a `FitResult`, a sequence of them, or the path of a fits file; with
+/// the file's name for messages.
+fn fits_of(fits: &Bound<'_, PyAny>) -> PyResult<(Vec<FitResult>, Option<PathBuf>)> {
+    if let Ok(one) = fits.cast::<PyFitResult>() {
+        return Ok((vec![one.get().0.clone()], None));
+    }
+    if let Ok(path) = fits.extract::<PathBuf>() {
+        let file = FitsFile::read(&path).map_err(|e| match e {
+            stfit_fit::FitsFileError::Io { .. } => os_error(e),
+            other => value_error(other),
+        })?;
+        return Ok((file.fits, Some(path)));
+    }
+    let list = fits
+        .try_iter()
+        .map_err(|_| type_error())?
+        .map(|f| {
+            f?.cast::<PyFitResult>()
+                .map(|r| r.get().0.clone())
+                .map_err(|_| type_error())
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok((list, None))
+}
+
+fn type_error() -> PyErr {
+    PyTypeError::new_err("fits: expected a FitResult, a sequence of them or a fits file's path")
+}
+
+/// Exports stored fits as `stfit export` does: `fits` (a `FitResult`, a sequence of them, or
+/// the path of a fits file) to the target `to` (`mitsuba3`, `pbrt-v4`, `cycles`, `appleseed`,
+/// `openpbr`, `vray`, `radiance`), the fits selected by `sample` and `model`. Without `out`,
+/// returns the text `stfit export` prints; with `out` a file, writes one file of each type
+/// (the first at `out`, the others beside it with their extension), with `out` an existing
+/// folder one file per fit named `ID-TARGET.EXT`, and returns the paths written. `layer`,
+/// `absorption`, `walks` and `seed` are the options of `radiance`. Clamps and other
+/// departures from the fit become Python warnings.
+#[pyfunction]
+#[pyo3(signature = (fits, to, *, sample = None, model = None, out = None, layer = "pane",
+    absorption = 0.0, walks = DEFAULT_WALKS_PER_PATCH, seed = 1))]
+#[allow(clippy::too_many_arguments)]
+pub fn export(
+    py: Python<'_>,
+    fits: &Bound<'_, PyAny>,
+    to: &str,
+    sample: Option<&str>,
+    model: Option<&str>,
+    out: Option<PathBuf>,
+    layer: &str,
+    absorption: f64,
+    walks: u64,
+    seed: u64,
+) -> PyResult<Py<PyAny>> {
+    let target = target(to)?;
+    let radiance = RadianceOptions {
+        layer: match layer {
+            "pane" => LayerKind::Pane,
+            "interface" => LayerKind::Interface,
+            other => {
+                return Err(arg_error(
+                    "layer",
+                    format!("unknown layer '{other}' (expected pane or interface)"),
+                ));
+            }
+        },
+        absorption,
+        walks_per_patch: walks,
+        seed,
+        rule: QuadratureRule::DEFAULT,
+    };
+    radiance.check().map_err(value_error)?;
+    if target != Target::Radiance && radiance != RadianceOptions::default() {
+        return Err(value_error(
+            "layer, absorption, walks and seed apply to to='radiance' only",
+        ));
+    }
+    let selection = selection(sample, model)?;
+    let (fits, file) = fits_of(fits)?;
+    let dest = match out.as_deref() {
+        None => Destination::Stdout,
+        Some(p) if p.is_dir() => Destination::Folder(p),
+        Some(p) => Destination::File(p),
+    };
+    let batch = py
+        .detach(|| export_fits(&fits, &selection, target, &radiance, dest))
+        .map_err(|e| match (e, &file) {
+            (e @ BatchError::OneFilePerFit, _) => value_error(e),
+            (e, Some(path)) => value_error(format!("{}: {e}", path.display())),
+            (e, None) => value_error(e),
+        })?;
+    let warn = py.import("warnings")?;
+    for e in &batch.exports {
+        for w in &e.export.warnings {
+            warn.call_method1("warn", (format!("{}: {w}", e.id),))?;
+        }
+    }
+    if out.is_none() {
+        let text = batch
+            .outputs
+            .into_iter()
+            .map(|o| o.text)
+            .collect::<String>();
+        return Ok(text.into_pyobject(py)?.into_any().unbind());
+    }
+    let mut written = Vec::with_capacity(batch.outputs.len());
+    for o in batch.outputs {
+        let path = o
+            .path
+            .expect("a file destination names every output's path");
+        std::fs::write(&path, &o.text)
+            .map_err(|e| os_error(format!("{}: cannot write: {e}", path.display())))?;
+        written.push(path);
+    }
+    Ok(written.into_pyobject(py)?.into_any().unbind())
+}

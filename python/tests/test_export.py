@@ -1,0 +1,115 @@
+"""stfit.export writes what `stfit export` writes, byte for byte, from a fits file or from
+FitResult objects, to stdout text, one file or a folder; bad options raise ValueError."""
+
+import pathlib
+
+import pytest
+
+import stfit
+
+FITS = "fits/example-fits.json"
+RENDERERS = ["mitsuba3", "pbrt-v4", "cycles", "appleseed", "openpbr", "vray"]
+
+
+@pytest.mark.parametrize("target", RENDERERS)
+def test_text_equals_the_cli_stdout(cli, at_repo, target):
+    expected = cli("export", FITS, "--to", target, "--sample", "frosted")
+    assert stfit.export(FITS, to=target, sample="frosted") == expected
+
+
+def test_fit_results_export_like_their_file(cli, at_repo):
+    fits = stfit.read_fits(FITS)
+    expected = cli("export", FITS, "--to", "pbrt-v4", "--sample", "ground", "--model", "ggx")
+    ground_ggx = [f for f in fits if f.sample == "ground" and f.model == "ggx"]
+    assert len(ground_ggx) == 1
+    assert stfit.export(ground_ggx[0], to="pbrt-v4") == expected
+    assert stfit.export(fits, to="pbrt-v4", sample="ground", model="ggx") == expected
+
+
+def test_model_selection_separates_gamma_fixed(cli, at_repo):
+    for model in ["student-t", "student-t-fixed"]:
+        expected = cli("export", FITS, "--to", "appleseed", "--sample", "etched", "--model", model)
+        assert stfit.export(FITS, to="appleseed", sample="etched", model=model) == expected
+    assert stfit.export(FITS, to="appleseed", sample="etched", model="student-t") != \
+        stfit.export(FITS, to="appleseed", sample="etched", model="student-t-fixed")
+
+
+def test_one_file_of_each_type_like_the_cli(cli, at_repo, tmp_path):
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    cli("export", FITS, "--to", "mitsuba3", "--sample", "etched",
+        "--out", str(tmp_path / "cli" / "scene.xml"))
+    written = stfit.export(FITS, to="mitsuba3", sample="etched", out=tmp_path / "py" / "scene.xml")
+    assert [pathlib.Path(p).name for p in written] == ["scene.xml", "scene.py"]
+    for name in ["scene.xml", "scene.py"]:
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+
+
+def test_folder_holds_one_file_per_fit_like_the_cli(cli, at_repo, tmp_path):
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    listed = cli("export", FITS, "--to", "vray", "--model", "ggx", "--out", str(tmp_path / "cli"))
+    written = stfit.export(FITS, to="vray", model="ggx", out=str(tmp_path / "py"))
+    names = sorted(pathlib.Path(p).name for p in written)
+    assert names == sorted(pathlib.Path(p).name for p in listed.split())
+    assert names == ["etched_ggx-vray.vrscene", "frosted_ggx-vray.vrscene",
+                     "ground_ggx-vray.vrscene"]
+    for name in names:
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+
+
+@pytest.mark.parametrize("options", [
+    ["--layer", "interface"],
+    ["--walks", "16", "--seed", "5", "--absorption", "0.1"],
+])
+def test_radiance_file_equals_the_cli(cli, at_repo, tmp_path, options):
+    cli("export", FITS, "--to", "radiance", "--sample", "ground", "--model", "ggx",
+        "--out", str(tmp_path / "cli.xml"), *options)
+    keywords = {}
+    for flag, value in zip(options[::2], options[1::2]):
+        name = flag[2:]
+        keywords[name] = value if name == "layer" else float(value) if name == "absorption" \
+            else int(value)
+    written = stfit.export(FITS, to="radiance", sample="ground", model="ggx",
+                           out=tmp_path / "py.xml", **keywords)
+    assert [pathlib.Path(p).name for p in written] == ["py.xml"]
+    text = (tmp_path / "py.xml").read_bytes()
+    assert text == (tmp_path / "cli.xml").read_bytes()
+    assert b"<WindowElement" in text
+
+
+def test_bad_options_raise_value_error(at_repo):
+    with pytest.raises(ValueError, match="to: unknown target 'mitsuba'"):
+        stfit.export(FITS, to="mitsuba")
+    with pytest.raises(ValueError, match="model: unknown model 'gxx'"):
+        stfit.export(FITS, to="pbrt-v4", model="gxx")
+    with pytest.raises(ValueError, match="layer: unknown layer"):
+        stfit.export(FITS, to="radiance", sample="ground", model="ggx", layer="slab")
+    with pytest.raises(ValueError, match="apply to to='radiance' only"):
+        stfit.export(FITS, to="pbrt-v4", walks=10)
+    with pytest.raises(ValueError, match="absorption"):
+        stfit.export(FITS, to="radiance", sample="ground", model="ggx", absorption=1.5)
+    with pytest.raises(ValueError, match="absorption"):
+        stfit.export(FITS, to="radiance", sample="ground", model="ggx", absorption=float("nan"))
+    with pytest.raises(ValueError, match="one BSDF file per fit"):
+        stfit.export(FITS, to="radiance")
+    with pytest.raises(OverflowError):
+        stfit.export(FITS, to="radiance", sample="ground", model="ggx", walks=-1)
+
+
+def test_bad_fits_raise(at_repo, tmp_path):
+    with pytest.raises(ValueError, match="example-fits.json: no fit matches the selection"):
+        stfit.export(FITS, to="pbrt-v4", sample="no such sample")
+    with pytest.raises(OSError):
+        stfit.export(tmp_path / "missing.json", to="pbrt-v4")
+    broken = tmp_path / "broken.json"
+    broken.write_text('{"version": 1, "fits": [{"sample": 3}]}')
+    with pytest.raises(ValueError, match="broken.json"):
+        stfit.export(broken, to="pbrt-v4")
+    with pytest.raises(TypeError, match="fits: expected a FitResult"):
+        stfit.export([1, 2], to="pbrt-v4")
+    with pytest.raises(TypeError, match="fits: expected a FitResult"):
+        stfit.export(3.5, to="pbrt-v4")
+    with pytest.raises(OSError):
+        stfit.export(FITS, to="pbrt-v4", model="ggx", sample="ground",
+                     out=tmp_path / "no" / "such" / "folder.pbrt")
