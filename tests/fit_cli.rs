@@ -259,7 +259,7 @@ fn fits_of(stdout: &str) -> Vec<serde_json::Value> {
 
 /// The keys of one fit: those of stfit 0.1 (whose names and meanings stay) and those added
 /// since, which record the model and how it was fitted.
-const KEYS: [&str; 27] = [
+const KEYS: [&str; 28] = [
     "alpha",
     "alpha_stderr",
     "data",
@@ -275,6 +275,7 @@ const KEYS: [&str; 27] = [
     "masking",
     "measured",
     "model",
+    "multiple_term",
     "n_points",
     "optimizer",
     "orders",
@@ -678,4 +679,59 @@ fn stored_example_data_and_fits_are_reproduced() {
             }
         }
     }
+}
+
+/// The fits of `--model all --orders all` on two samples run in parallel: with
+/// `RAYON_NUM_THREADS=1` and `=2` the JSON is byte-identical, and every fit records the
+/// default surrogate orders >= 2 term it was searched with.
+#[test]
+fn fit_json_does_not_depend_on_the_thread_count() {
+    let dir = CaseDir::new("threads");
+    let file = dir.join("two.csv");
+    for (name, alpha, append) in [("a", "0.3", false), ("b", "0.5", true)] {
+        let mut args = vec![
+            "synth",
+            "--model",
+            "ggx",
+            "--alpha",
+            alpha,
+            "--noise",
+            "0.02",
+            "--sample",
+            name,
+            "--out",
+            p(&file),
+        ];
+        if append {
+            args.push("--append");
+        }
+        stfit_ok(&args);
+    }
+    let run = |threads: &str| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_stfit"))
+            .args([
+                p(&file),
+                "--model",
+                "all",
+                "--orders",
+                "all",
+                "--walks",
+                "1000",
+                "--json",
+            ])
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .expect("stfit runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out.stdout
+    };
+    let one = run("1");
+    let text = String::from_utf8_lossy(&one);
+    assert_eq!(text.matches("\"sample\"").count(), 8);
+    assert_eq!(text.matches("\"multiple_term\": \"surrogate\"").count(), 8);
+    assert_eq!(one, run("2"));
 }

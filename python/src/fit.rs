@@ -11,7 +11,8 @@ use stfit_core::ScatteringOrders;
 use stfit_fit::synth::{SynthSpec, parse_angle_list, write_file};
 use stfit_fit::{
     DEFAULT_ETA, DEFAULT_LOG_FLOOR, DEFAULT_WALKS, FitOptions, FitResult, FitsFile, Gamma, Grid,
-    Loss, Model, ModelKind, ModelSpec, Optimizer, Parameter, SynthError, all_models, fit_dataset,
+    Loss, Model, ModelKind, ModelSpec, MultipleTerm, Optimizer, Parameter, SynthError, all_models,
+    fit_dataset,
 };
 use stfit_report::{ReportError, ReportOptions, YScale, fits_table, render_report};
 
@@ -50,6 +51,7 @@ fn fit_options(
     orders_name: &str,
     walks: u64,
     seed: u64,
+    multiple_term: &str,
 ) -> PyResult<FitOptions> {
     let orders = orders(orders_name)?;
     let masking = orders
@@ -84,6 +86,16 @@ fn fit_options(
         orders,
         walks,
         seed,
+        multiple_term: match multiple_term {
+            "surrogate" => MultipleTerm::Surrogate,
+            "exact" => MultipleTerm::Exact,
+            other => {
+                return Err(arg_error(
+                    "multiple_term",
+                    format!("unknown multiple term '{other}' (expected surrogate or exact)"),
+                ));
+            }
+        },
     };
     opts.check().map_err(value_error)?;
     Ok(opts)
@@ -115,7 +127,8 @@ fn specs(model: &str, gamma: Option<f64>) -> PyResult<Vec<ModelSpec>> {
 #[pyfunction]
 #[pyo3(signature = (data, *, model = "student-t", gamma = None, sample = None, eta = None,
     scale = None, loss = "sqrt", log_floor = DEFAULT_LOG_FLOOR, optimizer = "nelder-mead",
-    masking = None, orders = "single", walks = DEFAULT_WALKS, seed = 1))]
+    masking = None, orders = "single", walks = DEFAULT_WALKS, seed = 1,
+    multiple_term = "surrogate"))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit(
     py: Python<'_>,
@@ -132,10 +145,20 @@ pub fn fit(
     orders: &str,
     walks: u64,
     seed: u64,
+    multiple_term: &str,
 ) -> PyResult<Vec<PyFitResult>> {
     let specs = specs(model, gamma)?;
     let opts = fit_options(
-        eta, scale, loss, log_floor, optimizer, masking, orders, walks, seed,
+        eta,
+        scale,
+        loss,
+        log_floor,
+        optimizer,
+        masking,
+        orders,
+        walks,
+        seed,
+        multiple_term,
     )?;
     let data = crate::data::load(data, sample)?.0;
     let fits = py
@@ -219,6 +242,12 @@ impl PyFitResult {
     #[getter]
     fn optimizer(&self) -> &'static str {
         self.0.optimizer.name()
+    }
+    /// For an all-orders fit, how the search computed the orders >= 2 term: `surrogate` or
+    /// `exact` (None for single scattering).
+    #[getter]
+    fn multiple_term(&self) -> Option<&'static str> {
+        self.0.multiple_term.map(|t| t.name())
     }
     /// What the fitted points measure: `L`, `bsdf` or `L+bsdf`.
     #[getter]
@@ -494,7 +523,8 @@ pub fn synth(
 #[pyfunction]
 #[pyo3(signature = (data, fits = None, *, out, y_axis = "sqrt", eta = None, scale = None,
     loss = "sqrt", log_floor = DEFAULT_LOG_FLOOR, optimizer = "nelder-mead", masking = None,
-    orders = "single", walks = DEFAULT_WALKS, seed = 1))]
+    orders = "single", walks = DEFAULT_WALKS, seed = 1,
+    multiple_term = "surrogate"))]
 #[allow(clippy::too_many_arguments)]
 pub fn report(
     py: Python<'_>,
@@ -511,6 +541,7 @@ pub fn report(
     orders: &str,
     walks: u64,
     seed: u64,
+    multiple_term: &str,
 ) -> PyResult<Vec<PathBuf>> {
     let opts = ReportOptions {
         y_scale: match y_axis {
@@ -529,7 +560,16 @@ pub fn report(
         Some(f) => results(f)?,
         None => {
             let fit_opts = fit_options(
-                eta, scale, loss, log_floor, optimizer, masking, orders, walks, seed,
+                eta,
+                scale,
+                loss,
+                log_floor,
+                optimizer,
+                masking,
+                orders,
+                walks,
+                seed,
+                multiple_term,
             )?;
             py.detach(|| fit_dataset(&data, &all_models(), &fit_opts, &|_, _| {}))
                 .map_err(|e| fit_error(py, &e))?

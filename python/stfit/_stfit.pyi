@@ -195,6 +195,7 @@ class FitResult:
     loss: str
     log_floor: Optional[float]
     optimizer: str
+    multiple_term: Optional[str]
     measured: str
     rmse_sqrt_l: float
     n_points: int
@@ -233,12 +234,15 @@ def fit(
     orders: str = "single",
     walks: int = 20_000,
     seed: int = 1,
+    multiple_term: str = "surrogate",
 ) -> list[FitResult]:
     """Fits ``model`` ('beckmann', 'ggx', 'student-t' or 'all': the four models Beckmann, GGX,
     Student-T with gamma = 3 and with gamma free) to every sample, with the command line's
     options and defaults: ``eta`` 1.51 (a number or 'free'), ``scale`` 'free' (or a number),
     ``orders`` 'single' or 'all' (the random walk's orders >= 2 added, ``walks`` per incidence
-    from ``seed``), ``masking`` separable for single scattering. Raises ValueError for bad
+    from ``seed``; ``multiple_term`` 'surrogate' interpolates that term between a few walk
+    sets while searching, 'exact' walks at every evaluation), ``masking`` separable for single
+    scattering. Raises ValueError for bad
     options, LoadError for bad data, FitError for a fit that cannot be made."""
 
 def table(fits: Sequence[FitResult]) -> str:
@@ -290,6 +294,7 @@ def report(
     orders: str = "single",
     walks: int = 20_000,
     seed: int = 1,
+    multiple_term: str = "surrogate",
 ) -> list[pathlib.Path]:
     """Writes the report of ``stfit report`` into ``out``: comparison figures (SVG, PNG) and
     fits.md. Without ``fits``, the four models are fitted first with the options given.

@@ -9,7 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use stfit_core::ScatteringOrders;
 use stfit_fit::{
     DEFAULT_ETA, DEFAULT_LOG_FLOOR, DEFAULT_WALKS, Dataset, FitOptions, FitResult, FitsFile, Loss,
-    ModelKind, ModelSpec, Optimizer, Parameter, all_models, fit_dataset, load_paths,
+    ModelKind, ModelSpec, MultipleTerm, Optimizer, Parameter, all_models, fit_dataset, load_paths,
 };
 use stfit_report::fits_table;
 
@@ -91,6 +91,21 @@ pub struct FitOptionArgs {
     /// Seed of the random walks (--orders all).
     #[arg(long, value_name = "S", default_value_t = 1)]
     pub seed: u64,
+    /// How --orders all computes the orders >= 2 term while it searches: a quadratic
+    /// surrogate interpolating walk estimates at a few parameter points (fast), or fresh walks
+    /// at every evaluation (exact, slow); both report the fit with the walks at the optimum,
+    /// and the JSON records which (`multiple_term`).
+    #[arg(long, value_enum, default_value_t = MultipleTermArg::Surrogate)]
+    pub multiple_term: MultipleTermArg,
+}
+
+/// `--multiple-term`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MultipleTermArg {
+    /// A quadratic surrogate in the parameters, from a few sets of walks per fit.
+    Surrogate,
+    /// Fresh walks (the same random numbers) at every cost evaluation.
+    Exact,
 }
 
 /// `--model`.
@@ -214,6 +229,10 @@ impl FitOptionArgs {
             orders,
             walks: self.walks,
             seed: self.seed,
+            multiple_term: match self.multiple_term {
+                MultipleTermArg::Surrogate => MultipleTerm::Surrogate,
+                MultipleTermArg::Exact => MultipleTerm::Exact,
+            },
         };
         opts.check().map_err(usage)?;
         Ok(opts)

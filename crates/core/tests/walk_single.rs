@@ -211,3 +211,55 @@ fn eval_pairs_does_not_depend_on_row_order() {
     assert_eq!(alone[0], forward[4]);
     assert!(forward.iter().any(|e| e.mean > 0.0));
 }
+
+/// `eval_pairs_batched` makes the same estimates as `eval_pairs` from per-chunk means whose
+/// walk-weighted average is the estimate, grouped by incident direction, and whose spread
+/// gives back the estimate's standard error.
+#[test]
+fn batched_estimates_are_made_of_their_chunks() {
+    use stfit_core::walk::{chunk_walks, eval_pairs, eval_pairs_batched};
+    let ms = Microsurface::new(
+        stfit_core::ndf::Ggx::new(0.5).unwrap(),
+        DielectricFacet::new(1.5).unwrap(),
+    );
+    let pairs: Vec<(Vec3, Vec3)> = [0.3, 1.1]
+        .iter()
+        .flat_map(|&ti| {
+            [0.4, 2.2, 1.9]
+                .iter()
+                .map(move |&to| (spherical_direction(ti, 0.0), spherical_direction(to, 3.0)))
+        })
+        .collect();
+    let walks = 20_000;
+    let plain = eval_pairs(&ms, &pairs, walks, 11);
+    let batched = eval_pairs_batched(&ms, &pairs, walks, 11);
+    let n = chunk_walks(walks);
+    assert_eq!(n.iter().sum::<u64>(), walks);
+    for (k, (p, b)) in plain.iter().zip(&batched).enumerate() {
+        assert_eq!(*p, b.estimate);
+        assert_eq!(b.group, k / 3);
+        assert_eq!(b.batch_means.len(), n.len());
+        let mean: f64 = b
+            .batch_means
+            .iter()
+            .zip(&n)
+            .map(|(m, &c)| m * c as f64)
+            .sum::<f64>()
+            / walks as f64;
+        assert!((mean - p.mean).abs() <= 1e-12 * p.mean.abs().max(1e-300));
+        // Batch means scatter with the per-walk spread over sqrt(chunk size): their spread
+        // estimates the standard error within the noise of ten batches.
+        let var: f64 = b
+            .batch_means
+            .iter()
+            .zip(&n)
+            .map(|(m, &c)| (c as f64 / walks as f64 * (m - p.mean)).powi(2))
+            .sum::<f64>()
+            * n.len() as f64
+            / (n.len() - 1) as f64;
+        if p.mean > 0.0 {
+            let ratio = var.sqrt() / p.stderr;
+            assert!((0.3..3.0).contains(&ratio), "pair {k}: {ratio}");
+        }
+    }
+}

@@ -85,6 +85,15 @@ fn bench_multiple(c: &mut Criterion) {
     group.bench_function("model at 300 points, 4 x 20000 walks", |b| {
         b.iter(|| all.predict(black_box(&angles)).unwrap())
     });
+    // Whole all-orders fits with the surrogate orders >= 2 term (the default).
+    let s = sample();
+    let opts = FitOptions::with_orders(ScatteringOrders::All);
+    for spec in [ModelSpec::student_t(), ModelSpec::ggx()] {
+        group.bench_function(
+            format!("fit {}, all orders, 300 points, surrogate", spec.label()),
+            |b| b.iter(|| fit_sample(black_box(&s), spec, &opts).unwrap()),
+        );
+    }
     group.finish();
 }
 

@@ -8,11 +8,19 @@
 //! BTDF with height-correlated masking (exactly the random walk's order 1 term) and `f_multi`
 //! the orders >= 2 estimate of `FitOptions::walks` random walks per incident direction, with a
 //! fixed seed per direction for every evaluation (common random numbers), so the objective is
-//! a deterministic, piecewise smooth function of the parameters. Nelder-Mead suits it; L-BFGS
-//! works but is not recommended (its finite-difference gradients see the jumps). The search
-//! starts from the optimum of the same model's single-scattering fit (multiple scattering is a
-//! correction to it) instead of the starting grid. The standard errors do not include the Monte
-//! Carlo error of `f_multi`.
+//! a deterministic function of the parameters. That estimator is not smooth: as the
+//! parameters change, rare heavy-tailed walk events switch on and off, so the objective has
+//! small jumps that a local search can settle in. By default
+//! ([`MultipleTerm::Surrogate`], [`crate::surrogate`]) the search does not call the walks at every
+//! evaluation: it interpolates the walk term quadratically between a few parameter points around
+//! the start (the optimum of the same model's single-scattering fit), rebuilt around the
+//! optimum until the optimum lies inside them (typically one or two surrogates: 4 to 14 sets of
+//! walks per fit, against a few hundred). The fit is reported with the walk term at the
+//! optimum (scale, rmse), and its standard errors add the Monte Carlo error of that term,
+//! propagated to first order from the independent chunks of walks, to the sandwich below.
+//! [`MultipleTerm::Exact`] evaluates fresh walks at every evaluation (Nelder-Mead suits it;
+//! L-BFGS's finite-difference gradients see the jumps) and its standard errors do not include
+//! the Monte Carlo error.
 //!
 //! Search coordinates: `x0 = ln(alpha)` and, for Student-T with free gamma,
 //! `x1 = ln(gamma - 3/2)`, so every point of the search space is a valid model. They are
@@ -40,6 +48,7 @@
 
 use std::path::PathBuf;
 
+use rayon::prelude::*;
 use stfit_core::ParamError;
 use stfit_core::bsdf::Masking;
 use stfit_core::error::check_gamma;
@@ -47,12 +56,13 @@ use stfit_core::walk::ScatteringOrders;
 use thiserror::Error;
 
 use crate::data::{Dataset, Measured, Sample, short};
-use crate::forward::Forward;
+use crate::forward::{Forward, WalkTerm};
 use crate::loss::{Projected, Projection, signed_sqrt};
 use crate::model::{Gamma, Model, ModelKind, ModelSpec, all_models};
 use crate::optimize::minimize;
-use crate::options::{ETA_MAX, ETA_MIN, FitOptions, Loss, Parameter};
+use crate::options::{ETA_MAX, ETA_MIN, FitOptions, Loss, MultipleTerm, Parameter};
 use crate::result::{FitResult, FitWarning};
+use crate::surrogate::Surrogate;
 
 /// Smallest roughness the search reaches.
 pub const ALPHA_MIN: f64 = 1e-3;
@@ -72,6 +82,14 @@ const GAMMA_GRID: [f64; 5] = [1.7, 2.2, 3.2, 6.0, 20.0];
 const ETA_GRID: [f64; 4] = [1.3, 1.45, 1.6, 1.8];
 /// Local optimisations are started from at most this many grid local minima.
 const MAX_STARTS: usize = 3;
+/// Step of the orders >= 2 surrogate's design in `ln alpha` ([`crate::surrogate`]).
+const SURROGATE_STEP_ALPHA: f64 = 0.12;
+/// Step in `ln(gamma - 3/2)`.
+const SURROGATE_STEP_GAMMA: f64 = 0.2;
+/// Step in `ln(eta - 1)`.
+const SURROGATE_STEP_ETA: f64 = 0.06;
+/// Most surrogates built in one fit: after the last, its optimum is taken wherever it lies.
+const SURROGATE_ROUNDS: usize = 5;
 
 /// Why a fit could not be made.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -279,6 +297,31 @@ impl Shape {
         Point { alpha, gamma, eta }
     }
 
+    /// The search box, per searched coordinate.
+    fn bounds(&self) -> Vec<(f64, f64)> {
+        let mut b = vec![(ALPHA_MIN.ln(), ALPHA_MAX.ln())];
+        if self.gamma.is_free() {
+            b.push((GAMMA_EXCESS_MIN.ln(), GAMMA_EXCESS_MAX.ln()));
+        }
+        if self.eta.is_free() {
+            b.push(((ETA_MIN - 1.0).ln(), (ETA_MAX - 1.0).ln()));
+        }
+        b
+    }
+
+    /// The steps of the orders >= 2 surrogate's design, per searched coordinate
+    /// ([`SURROGATE_STEP_ALPHA`] and the others).
+    fn surrogate_steps(&self) -> Vec<f64> {
+        let mut h = vec![SURROGATE_STEP_ALPHA];
+        if self.gamma.is_free() {
+            h.push(SURROGATE_STEP_GAMMA);
+        }
+        if self.eta.is_free() {
+            h.push(SURROGATE_STEP_ETA);
+        }
+        h
+    }
+
     /// The search bounds that the point of search coordinates `x` lies on (or beyond, where
     /// [`Shape::point`] clamps it), as `(parameter, bound)`.
     fn bounds_reached(&self, x: &[f64]) -> Vec<(&'static str, f64)> {
@@ -367,6 +410,8 @@ struct Evaluator<'p, 'a> {
     proj: Projected,
     shape: Shape,
     opts: FitOptions,
+    /// The surrogate orders >= 2 term added to `prep`'s (single-scattering) model.
+    multi: Option<&'p Surrogate>,
 }
 
 impl Evaluator<'_, '_> {
@@ -374,6 +419,9 @@ impl Evaluator<'_, '_> {
     fn unit_model(&self, p: Point, m: &mut Vec<f64>) -> Result<(), FitError> {
         let ndf = self.shape.model(p, 1.0, &self.opts).ndf()?;
         self.prep.forward.unit_model(&ndf, p.eta, m)?;
+        if let Some(s) = self.multi {
+            s.add_to(&self.shape.coords(p), m);
+        }
         Ok(())
     }
 
@@ -458,9 +506,11 @@ pub fn fit_all(sample: &Sample, opts: &FitOptions) -> Result<Vec<FitResult>, Fit
         .collect()
 }
 
-/// Fits every model of `specs` to every sample of `data` (in file order, then in the order of
-/// `specs`), recording the data file in each result, and calls `progress(done, total)` after
-/// each fit. Stops at the first fit that fails, saying which.
+/// Fits every model of `specs` to every sample of `data` (results in file order, then in the
+/// order of `specs`), recording the data file in each result, and calls `progress(done,
+/// total)` after each fit. The fits run in parallel (rayon); each is deterministic, so the
+/// results do not depend on the number of threads. Fails with the first failed fit in that
+/// order, saying which.
 pub fn fit_dataset(
     data: &Dataset,
     specs: &[ModelSpec],
@@ -468,28 +518,41 @@ pub fn fit_dataset(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Vec<FitResult>, DatasetFitError> {
     let total = data.samples.len() * specs.len();
-    let mut fits = Vec::with_capacity(total);
-    for sample in &data.samples {
-        let fail = |spec: &ModelSpec, error| DatasetFitError {
-            file: data.source.clone(),
-            sample: sample.name.clone(),
-            model: spec.label(),
-            error: Box::new(error),
-        };
-        let prep = match Prepared::new(sample, opts) {
-            Ok(p) => p,
-            Err(e) => return Err(fail(&specs[0], e)),
-        };
-        for spec in specs {
+    let fail = |sample: &Sample, spec: &ModelSpec, error| DatasetFitError {
+        file: data.source.clone(),
+        sample: sample.name.clone(),
+        model: spec.label(),
+        error: Box::new(error),
+    };
+    let Some(first) = specs.first() else {
+        return Ok(Vec::new());
+    };
+    // A sample that cannot be prepared fails its first fit.
+    let preps: Vec<(&Sample, Result<Prepared, FitError>)> = data
+        .samples
+        .iter()
+        .map(|sample| (sample, Prepared::new(sample, opts)))
+        .collect();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let tasks: Vec<_> = preps
+        .iter()
+        .flat_map(|prep| specs.iter().map(move |spec| (prep, spec)))
+        .collect();
+    tasks
+        .into_par_iter()
+        .map(|((sample, prep), spec)| {
+            let prep = prep.as_ref().map_err(|e| fail(sample, first, e.clone()))?;
             let mut fit = Shape::new(*spec, opts)
-                .and_then(|shape| fit_prepared(&prep, shape, opts))
-                .map_err(|e| fail(spec, e))?;
+                .and_then(|shape| fit_prepared(prep, shape, opts))
+                .map_err(|e| fail(sample, spec, e))?;
             fit.data = Some(data.source.display().to_string());
-            fits.push(fit);
-            progress(fits.len(), total);
-        }
-    }
-    Ok(fits)
+            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            progress(n, total);
+            Ok(fit)
+        })
+        .collect::<Vec<_>>()
+        .into_iter()
+        .collect()
 }
 
 fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitResult, FitError> {
@@ -527,40 +590,106 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
             Parameter::Fixed(su)
         }
     };
-    let eval = Evaluator {
-        prep,
-        proj: Projected::new(opts.loss, &prep.v, &prep.w, opts.log_floor, scale_in_units),
-        shape,
-        opts: *opts,
+    let proj = Projected::new(opts.loss, &prep.v, &prep.w, opts.log_floor, scale_in_units);
+    if !prep.forward.has_walks() {
+        let eval = Evaluator {
+            prep,
+            proj,
+            shape,
+            opts: *opts,
+            multi: None,
+        };
+        let (best, iterations) = search(&eval, eval.starts())?;
+        return finish(&eval, &best.x, iterations, None);
+    }
+    // Multiple scattering is a correction to single scattering: start from the optimum of the
+    // same model's single-scattering fit (height-correlated masking, the walk's order 1).
+    let single = FitOptions {
+        orders: ScatteringOrders::Single,
+        masking: Masking::Correlated,
+        ..*opts
     };
+    let prep_single = Prepared {
+        forward: prep.forward.single_part(),
+        ..prep.clone()
+    };
+    let r = fit_prepared(&prep_single, shape, &single)?;
+    let start = shape.coords(Point {
+        alpha: r.model.alpha,
+        gamma: r.model.gamma,
+        eta: r.model.eta,
+    });
+    match opts.multiple_term {
+        MultipleTerm::Exact => {
+            let eval = Evaluator {
+                prep,
+                proj,
+                shape,
+                opts: *opts,
+                multi: None,
+            };
+            let (best, iterations) = search(&eval, vec![start])?;
+            finish(&eval, &best.x, iterations, None)
+        }
+        MultipleTerm::Surrogate => fit_with_surrogate(prep, &prep_single, shape, opts, proj, start),
+    }
+}
 
+/// The all-orders fit with the surrogate orders >= 2 term ([`crate::surrogate`]): a surrogate
+/// around the single-scattering optimum `start`, minimised, and rebuilt around the optimum
+/// until the optimum lies in the span of its nodes (at most [`SURROGATE_ROUNDS`] surrogates).
+/// The fit is then reported with the exact walk term at the optimum (its rmse, scale and Monte
+/// Carlo error), the surrogate's derivatives giving the Jacobian.
+fn fit_with_surrogate(
+    prep: &Prepared,
+    prep_single: &Prepared,
+    shape: Shape,
+    opts: &FitOptions,
+    proj: Projected,
+    start: Vec<f64>,
+) -> Result<FitResult, FitError> {
+    let term_at = |x: &[f64]| {
+        let pt = shape.point(x);
+        let ndf = shape.model(pt, 1.0, opts).ndf()?;
+        Ok(prep.forward.walk_term(&ndf, pt.eta)?)
+    };
+    let (bounds, step) = (shape.bounds(), shape.surrogate_steps());
+    let mut center = start;
+    let mut iterations = 0;
+    for round in 1..=SURROGATE_ROUNDS {
+        // Keep every node inside the search box.
+        for ((c, &(lo, hi)), &h) in center.iter_mut().zip(&bounds).zip(&step) {
+            *c = c.clamp(lo + h, hi - h);
+        }
+        let surrogate = Surrogate::build(&center, &step, term_at)?;
+        let eval = Evaluator {
+            prep: prep_single,
+            proj: proj.clone(),
+            shape,
+            opts: *opts,
+            multi: Some(&surrogate),
+        };
+        let (best, it) = search(&eval, vec![center.clone()])?;
+        iterations += it;
+        let x = shape.coords(shape.point(&best.x));
+        if surrogate.spans(&x) || round == SURROGATE_ROUNDS {
+            return finish(&eval, &x, iterations, Some(&term_at(&x)?));
+        }
+        center = x;
+    }
+    unreachable!("the last round returns")
+}
+
+/// The best local minimum of `eval`'s cost from `starts`, and the iterations of all of them.
+fn search(
+    eval: &Evaluator,
+    starts: Vec<Vec<f64>>,
+) -> Result<(crate::optimize::Minimum, u64), FitError> {
     let mut best: Option<crate::optimize::Minimum> = None;
     let mut iterations = 0;
     let mut evaluations = 0;
-    let starts = if prep.forward.has_walks() {
-        // Multiple scattering is a correction to single scattering: start from the optimum of
-        // the same model's single-scattering fit (height-correlated masking, the walk's order 1).
-        let single = FitOptions {
-            orders: ScatteringOrders::Single,
-            masking: Masking::Correlated,
-            ..*opts
-        };
-        let prep_single = Prepared {
-            forward: prep.forward.single_part(),
-            ..prep.clone()
-        };
-        let r = fit_prepared(&prep_single, shape, &single)?;
-        let m = r.model;
-        vec![shape.coords(Point {
-            alpha: m.alpha,
-            gamma: m.gamma,
-            eta: m.eta,
-        })]
-    } else {
-        eval.starts()
-    };
     for x0 in starts {
-        match minimize(|x| eval.cost(x), &x0, opts.optimizer) {
+        match minimize(|x| eval.cost(x), &x0, eval.opts.optimizer) {
             Ok(m) => {
                 iterations += m.iterations;
                 if best.as_ref().is_none_or(|b| m.cost < b.cost) {
@@ -571,14 +700,37 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
         }
     }
     let best = best.ok_or_else(|| FitError::NoFiniteCost {
-        sample: sample.clone(),
-        model: shape.kind.name(),
+        sample: eval.prep.sample.name.clone(),
+        model: eval.shape.kind.name(),
         evaluations,
     })?;
+    Ok((best, iterations))
+}
 
-    let point = shape.point(&best.x);
+/// The fit at search coordinates `x`: scale, rmse and standard errors. With `exact`, the walk
+/// term at `x` replaces the surrogate's in the model whose scale and rmse are reported, and its
+/// Monte Carlo error enters the standard errors.
+fn finish(
+    eval: &Evaluator,
+    x: &[f64],
+    iterations: u64,
+    exact: Option<&WalkTerm>,
+) -> Result<FitResult, FitError> {
+    let (prep, shape, opts) = (eval.prep, eval.shape, &eval.opts);
+    let sample = &prep.sample.name;
+    let (n, unit) = (prep.v.len(), prep.unit);
+    let p = shape.dims() + usize::from(opts.scale.is_free());
+    let point = shape.point(x);
     let mut m = Vec::new();
     eval.unit_model(point, &mut m)?;
+    if let Some(term) = exact {
+        m.clear();
+        prep.forward
+            .unit_model(&shape.model(point, 1.0, opts).ndf()?, point.eta, &mut m)?;
+        for (m, t) in m.iter_mut().zip(&term.values) {
+            *m += t;
+        }
+    }
     if m.iter().all(|&m| m == 0.0) {
         return Err(FitError::NoSignal {
             sample: sample.clone(),
@@ -620,13 +772,13 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
             parameters: p,
         });
     }
-    for (parameter, bound) in shape.bounds_reached(&best.x) {
+    for (parameter, bound) in shape.bounds_reached(x) {
         warnings.push(FitWarning::AtBound {
             parameter: parameter.to_owned(),
             bound,
         });
     }
-    let se = match standard_errors(&eval, point, scale_u, &m)? {
+    let se = match standard_errors(eval, point, scale_u, &m, exact)? {
         Some(se) => se,
         None => {
             warnings.push(FitWarning::SingularCurvature);
@@ -648,6 +800,7 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
         loss: opts.loss,
         log_floor: (opts.loss == Loss::Log).then_some(opts.log_floor),
         optimizer: opts.optimizer,
+        multiple_term: (opts.orders == ScatteringOrders::All).then_some(opts.multiple_term),
         measured: prep.measured,
         rmse_sqrt_l,
         n_points: n,
@@ -684,6 +837,7 @@ fn standard_errors(
     p: Point,
     scale: f64,
     m: &[f64],
+    term: Option<&WalkTerm>,
 ) -> Result<Option<StandardErrors>, FitError> {
     let proj = &eval.proj;
     let n = m.len();
@@ -738,9 +892,23 @@ fn standard_errors(
     let residuals: Vec<f64> = (0..n)
         .map(|j| sw[j] * (proj.y[j] - proj.transform(scale * m[j])))
         .collect();
-    let Some(cov) = sandwich_covariance(&cols, &residuals) else {
+    let Some(mut cov) = sandwich_covariance(&cols, &residuals) else {
         return Ok(None);
     };
+    if let Some(term) = term {
+        // The slope over one standard error of the term: where the model is far above its
+        // Monte Carlo error this is the derivative of the first-order propagation; where the
+        // model is near 0 (a Beckmann tail underflowing at grazing pairs) the square root's
+        // derivative is unbounded and would make every standard error infinite.
+        for (k, v) in walk_variance(&cols, term, |j| {
+            sw[j] * proj.model_slope(scale, m[j], term.stderr_at(j))
+        })
+        .into_iter()
+        .enumerate()
+        {
+            cov[k][k] += v;
+        }
+    }
     let se: Vec<f64> = (0..cols.len()).map(|k| cov[k][k].sqrt()).collect();
     if se.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
         return Ok(None);
@@ -756,6 +924,34 @@ fn standard_errors(
         },
         scale: if scale_free { se.next() } else { None },
     }))
+}
+
+/// The variances of the fitted parameters due to the Monte Carlo error of the orders >= 2
+/// `term`, to first order: a change `delta` of the unit-scale model moves the least-squares
+/// optimum by `-(J^T J)^{-1} J^T diag(g) delta`, `g_j = sqrt(w_j) d T(scale m_j) / d m_j`
+/// (taken as the caller's secant over the term's standard error; `cols` the columns of `J`),
+/// whose variance [`WalkTerm::variance_of`] estimates from the
+/// independent batches of walks. Zeros if `J^T J` is numerically singular.
+fn walk_variance(cols: &[Vec<f64>], term: &WalkTerm, g: impl Fn(usize) -> f64) -> Vec<f64> {
+    let (p, n) = (cols.len(), term.values.len());
+    let jtj: Vec<Vec<f64>> = (0..p)
+        .map(|a| {
+            (0..p)
+                .map(|b| (0..n).map(|j| cols[a][j] * cols[b][j]).sum())
+                .collect()
+        })
+        .collect();
+    let Some(bread) = invert_spd(&jtj) else {
+        return vec![0.0; p];
+    };
+    (0..p)
+        .map(|k| {
+            let a: Vec<f64> = (0..n)
+                .map(|j| g(j) * (0..p).map(|l| bread[k][l] * cols[l][j]).sum::<f64>())
+                .collect();
+            term.variance_of(&a)
+        })
+        .collect()
 }
 
 /// The HC1 heteroscedasticity-robust covariance of least-squares estimates,

@@ -27,7 +27,9 @@ use std::sync::OnceLock;
 use stfit_core::bsdf::{HalfVector, Masking, fresnel_dielectric};
 use stfit_core::error::check_eta;
 use stfit_core::ndf::{AnyNdf, Ndf};
-use stfit_core::walk::{DielectricFacet, Microsurface, ScatteringOrders, eval_pairs};
+use stfit_core::walk::{
+    DielectricFacet, Microsurface, ScatteringOrders, chunk_walks, eval_pairs_batched,
+};
 use stfit_core::{ParamError, Vec3};
 
 use crate::data::Quantity;
@@ -236,14 +238,89 @@ impl Forward {
     /// Adds the unit-scale orders >= 2 of every configuration to `out`: the height-field random
     /// walk (Heitz et al. 2016) on a dielectric microsurface of the NDF.
     fn add_walks(&self, ndf: &AnyNdf, eta: f64, out: &mut [f64]) -> Result<(), ParamError> {
-        let surface = Microsurface::new(*ndf, DielectricFacet::new(eta)?)
-            .with_orders(ScatteringOrders::Multiple);
-        let est = eval_pairs(&surface, &self.pairs, self.walks, self.seed);
-        for (j, (o, e)) in out.iter_mut().zip(est).enumerate() {
-            // The walk estimates f |wo.z|.
-            *o += e.mean * self.q(j, eta) / self.pairs[j].1.z.abs();
+        let term = self.walk_term(ndf, eta)?;
+        for (o, v) in out.iter_mut().zip(term.values) {
+            *o += v;
         }
         Ok(())
+    }
+
+    /// The unit-scale orders >= 2 term of every configuration, in the measured quantity, from
+    /// `walks` walks per incident direction ([`Forward::new`]), with its per-chunk means
+    /// ([`WalkTerm`]).
+    pub fn walk_term(&self, ndf: &AnyNdf, eta: f64) -> Result<WalkTerm, ParamError> {
+        let surface = Microsurface::new(*ndf, DielectricFacet::new(eta)?)
+            .with_orders(ScatteringOrders::Multiple);
+        let est = eval_pairs_batched(&surface, &self.pairs, self.walks, self.seed);
+        let mut term = WalkTerm {
+            values: Vec::with_capacity(est.len()),
+            group: Vec::with_capacity(est.len()),
+            batches: Vec::with_capacity(est.len()),
+            batch_walks: chunk_walks(self.walks),
+        };
+        for (j, e) in est.into_iter().enumerate() {
+            // The walk estimates f |wo.z|.
+            let unit = self.q(j, eta) / self.pairs[j].1.z.abs();
+            term.values.push(e.estimate.mean * unit);
+            term.group.push(e.group);
+            term.batches
+                .push(e.batch_means.iter().map(|b| b * unit).collect());
+        }
+        Ok(term)
+    }
+}
+
+/// The orders >= 2 term of every configuration of a [`Forward`] (unit scale, in the measured
+/// quantity) from one set of walks per incident direction, with what its Monte Carlo error is
+/// made of: `batches[j][c]` is the term of configuration `j` from the walks of chunk `c` alone
+/// (`batch_walks[c]` walks), `values[j]` their walk-weighted mean. Configurations of one
+/// `group` share their walks (correlated errors); groups are independent.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WalkTerm {
+    pub values: Vec<f64>,
+    pub group: Vec<usize>,
+    pub batches: Vec<Vec<f64>>,
+    pub batch_walks: Vec<u64>,
+}
+
+impl WalkTerm {
+    /// The Monte Carlo variance of a linear functional `sum_j a_j values[j]` of the term,
+    /// estimated from the independent batches (chunks of walks) of every group:
+    /// `B/(B-1) sum_groups sum_c (n_c/N)^2 (sum_{j in group} a_j (batch_jc - value_j))^2`.
+    /// Zero when there is a single batch (no estimate of the spread).
+    pub fn variance_of(&self, a: &[f64]) -> f64 {
+        let b = self.batch_walks.len();
+        if b < 2 {
+            return 0.0;
+        }
+        let n: f64 = self.batch_walks.iter().sum::<u64>() as f64;
+        let groups = self.group.iter().copied().max().map_or(0, |g| g + 1);
+        let mut dev = vec![vec![0.0; b]; groups];
+        for (j, &g) in self.group.iter().enumerate() {
+            if a[j] == 0.0 {
+                continue;
+            }
+            for (c, d) in dev[g].iter_mut().enumerate() {
+                *d += a[j] * (self.batches[j][c] - self.values[j]);
+            }
+        }
+        let sum: f64 = dev
+            .iter()
+            .flat_map(|d| {
+                d.iter()
+                    .zip(&self.batch_walks)
+                    .map(|(d, &nc)| (nc as f64 / n * d).powi(2))
+            })
+            .sum();
+        sum * b as f64 / (b - 1) as f64
+    }
+
+    /// The Monte Carlo standard error of `values[j]` ([`WalkTerm::variance_of`] of the
+    /// functional picking configuration `j`).
+    pub fn stderr_at(&self, j: usize) -> f64 {
+        let mut a = vec![0.0; self.values.len()];
+        a[j] = 1.0;
+        self.variance_of(&a).sqrt()
     }
 }
 

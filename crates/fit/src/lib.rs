@@ -36,6 +36,7 @@ pub mod options;
 pub mod pabopto;
 pub mod pairs;
 pub mod result;
+pub mod surrogate;
 pub mod synth;
 
 pub use conventions::DEFAULT_ETA;
@@ -43,7 +44,9 @@ pub use data::{Angles, Dataset, Measured, Measurement, Quantity, Sample, short};
 pub use fit::{DatasetFitError, FitError, fit_all, fit_dataset, fit_sample};
 pub use load::{Column, LoadError, LoadErrorKind, load_columns, load_path, load_paths};
 pub use model::{Gamma, Model, ModelKind, ModelSpec, all_models};
-pub use options::{DEFAULT_LOG_FLOOR, DEFAULT_WALKS, FitOptions, Loss, Optimizer, Parameter};
+pub use options::{
+    DEFAULT_LOG_FLOOR, DEFAULT_WALKS, FitOptions, Loss, MultipleTerm, Optimizer, Parameter,
+};
 pub use result::{FITS_VERSION, FitResult, FitWarning, FitsFile, FitsFileError};
 pub use stfit_core::ScatteringOrders;
 pub use stfit_core::bsdf::Masking;

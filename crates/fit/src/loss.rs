@@ -94,6 +94,19 @@ impl Projected {
         }
     }
 
+    /// How the transformed model moves with the unit-scale model over a change `dm > 0` of
+    /// it: the secant `(T(scale (m + dm)) - T(scale m)) / dm`. It is `d T(scale m) / d m` for
+    /// `dm << m` and stays finite where the derivative does not (the square root at `m -> 0`);
+    /// 0 for `dm <= 0`.
+    #[inline]
+    pub fn model_slope(&self, scale: f64, m: f64, dm: f64) -> f64 {
+        if dm > 0.0 {
+            (self.transform(scale * (m + dm)) - self.transform(scale * m)) / dm
+        } else {
+            0.0
+        }
+    }
+
     /// The weighted residual sum of squares of the model `m` at `scale`.
     fn rss(&self, m: &[f64], scale: f64) -> f64 {
         self.y
@@ -200,6 +213,31 @@ impl Projected {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The slope over a change `dm` is the derivative of `T(scale m)` for `dm << m` under every
+    /// loss, and stays finite for the square root at a model of 0 or below f64's normal range.
+    #[test]
+    fn model_slope_is_the_derivative_and_finite_at_zero() {
+        let (scale, m, floor) = (0.8_f64, 0.3_f64, 1e-3);
+        let derivative = |loss| match loss {
+            Loss::Sqrt => (scale / m).sqrt() / 2.0,
+            Loss::Linear => scale,
+            Loss::Log => scale / (scale * m + floor),
+        };
+        for loss in [Loss::Sqrt, Loss::Linear, Loss::Log] {
+            let p = Projected::new(loss, &[1.0], &[1.0], floor, Parameter::Free);
+            let s = p.model_slope(scale, m, 1e-9);
+            assert!((s / derivative(loss) - 1.0).abs() < 1e-6, "{loss:?}: {s}");
+            assert_eq!(p.model_slope(scale, m, 0.0), 0.0);
+        }
+        let p = Projected::new(Loss::Sqrt, &[1.0], &[1.0], floor, Parameter::Free);
+        for m in [0.0, 1e-310, 1e-300] {
+            let s = p.model_slope(scale, m, 1e-6);
+            assert!(s.is_finite() && s > 0.0, "m {m}: {s}");
+            // One standard error moves sqrt(scale m) by at most sqrt(scale dm).
+            assert!(s * 1e-6 <= (scale * 1e-6_f64).sqrt() * (1.0 + 1e-12));
+        }
+    }
 
     /// Exact data give back their scale and zero cost under every loss, free or fixed.
     #[test]

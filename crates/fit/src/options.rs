@@ -77,6 +77,29 @@ impl Optimizer {
     }
 }
 
+/// How an all-orders fit computes the walk's orders >= 2 term while it searches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MultipleTerm {
+    /// A quadratic surrogate in the search coordinates, interpolating the walk estimates at a
+    /// few parameter points around the search (recentred until the optimum lies inside them):
+    /// a handful of walk sets per fit instead of one per cost evaluation ([`crate::surrogate`]).
+    #[default]
+    Surrogate,
+    /// Fresh walks (the same random numbers) at every cost evaluation: the slow reference.
+    Exact,
+}
+
+impl MultipleTerm {
+    /// `surrogate` or `exact`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Surrogate => "surrogate",
+            Self::Exact => "exact",
+        }
+    }
+}
+
 /// Smallest glass index of a fit, held or free (inside the core's supported range,
 /// [`stfit_core::error::ETA_MIN`]).
 pub const ETA_MIN: f64 = 1.05;
@@ -120,12 +143,14 @@ pub struct FitOptions {
     pub walks: u64,
     /// Seed of those walks (orders all).
     pub seed: u64,
+    /// How the orders >= 2 term is computed during the search (orders all).
+    pub multiple_term: MultipleTerm,
 }
 
 impl Default for FitOptions {
     /// Single scattering with separable masking, least squares on `sqrt(L)`, Nelder-Mead, eta
     /// held at 1.51 ([`DEFAULT_ETA`]), the scale fitted; [`DEFAULT_WALKS`] walks from seed 1
-    /// for orders all.
+    /// for orders all, with the surrogate orders >= 2 term.
     fn default() -> Self {
         Self {
             eta: Parameter::Fixed(DEFAULT_ETA),
@@ -137,6 +162,7 @@ impl Default for FitOptions {
             orders: ScatteringOrders::Single,
             walks: DEFAULT_WALKS,
             seed: 1,
+            multiple_term: MultipleTerm::Surrogate,
         }
     }
 }

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::data::Measured;
 use crate::model::Model;
-use crate::options::{Loss, Optimizer};
+use crate::options::{Loss, MultipleTerm, Optimizer};
 
 /// The result of fitting one model to one sample (one record of the fits JSON).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -35,6 +35,11 @@ pub struct FitResult {
     #[serde(default)]
     pub log_floor: Option<f64>,
     pub optimizer: Optimizer,
+    /// How an all-orders fit computed the orders >= 2 term while it searched (`surrogate` or
+    /// `exact`, `--multiple-term`); `None` (JSON `null`) for single scattering, and in files
+    /// written before the option existed (whose all-orders fits used exact walks).
+    #[serde(default)]
+    pub multiple_term: Option<MultipleTerm>,
     /// What the fitted points measure: `L`, the BSDF, or both (absent in files written before
     /// general files: `L`).
     #[serde(default)]
@@ -266,5 +271,24 @@ mod tests {
         assert_eq!((fit.log_floor, fit.eta_stderr), (None, None));
         assert_eq!(fit.measured, Measured::L);
         assert_eq!(fit.model.eta, 1.51);
+        assert_eq!(fit.multiple_term, None);
+    }
+
+    /// `multiple_term` is written as `surrogate`, `exact` or `null` and read back.
+    #[test]
+    fn multiple_term_round_trips() {
+        let text = r#"{"version": 1, "fits": [{
+            "sample": "s", "model": "ggx", "alpha": 0.2, "gamma": null, "gamma_fixed": false,
+            "scale": 1.5, "eta": 1.51, "masking": "correlated", "orders": "all",
+            "walks": 2000, "seed": 1, "loss": "sqrt", "optimizer": "nelder-mead",
+            "multiple_term": "exact", "rmse_sqrt_l": 0.01,
+            "n_points": 10, "alpha_stderr": 0.001, "gamma_stderr": null,
+            "scale_stderr": 0.01, "iterations": 40, "data": "d.csv", "stfit_version": "0.2.0"
+        }]}"#;
+        let file = FitsFile::from_json("f.json", text).unwrap();
+        assert_eq!(file.fits[0].multiple_term, Some(MultipleTerm::Exact));
+        let again = FitsFile::from_json("g.json", &file.to_json()).unwrap();
+        assert_eq!(again.fits, file.fits);
+        assert!(file.to_json().contains("\"multiple_term\": \"exact\""));
     }
 }

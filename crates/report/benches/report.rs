@@ -35,6 +35,7 @@ fn fit(sample: &Sample, kind: ModelKind, alpha: f64, gamma: Gamma) -> FitResult 
         model: Model::single(kind, alpha, gamma, 1.0),
         loss: Loss::Sqrt,
         optimizer: Optimizer::NelderMead,
+        multiple_term: None,
         rmse_sqrt_l: 0.0,
         n_points: sample.points.len(),
         alpha_stderr: None,

@@ -295,6 +295,7 @@ mod tests {
             model: Model::single(kind, 0.201_234_5, gamma, 1.234_567),
             loss: Loss::Sqrt,
             optimizer: Optimizer::NelderMead,
+            multiple_term: None,
             rmse_sqrt_l: 0.004_123_4,
             n_points: 300,
             alpha_stderr: Some(0.001_234),

@@ -80,6 +80,7 @@ fn fit(sample: &Sample, mut p: Model, gamma_fixed: bool) -> FitResult {
         model: p,
         loss: Loss::Sqrt,
         optimizer: Optimizer::NelderMead,
+        multiple_term: None,
         rmse_sqrt_l: rmse(sample, &p),
         n_points: sample.points.len(),
         alpha_stderr: Some(0.001),

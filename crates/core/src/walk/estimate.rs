@@ -24,6 +24,24 @@ pub struct Estimate {
     pub stderr: f64,
 }
 
+/// Estimates of many quantities from one set of walks, with the per-chunk means they are made
+/// of: `batches[c][k]` is the mean of quantity `k` over the walks of chunk `c`, which has
+/// [`chunk_walks`]`(walks)[c]` walks. Chunks use independent random numbers, so the batch means
+/// are independent and `estimates[k].mean` is their walk-weighted average.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Batched {
+    pub estimates: Vec<Estimate>,
+    pub batches: Vec<Vec<f64>>,
+}
+
+/// The number of walks of each chunk of a run of `walks` walks: [`CHUNK`] each, the last
+/// possibly fewer.
+pub fn chunk_walks(walks: u64) -> Vec<u64> {
+    (0..walks.div_ceil(CHUNK))
+        .map(|c| chunk_len(walks, c))
+        .collect()
+}
+
 /// A standard error as it may be reported: `None` for fewer than 2 walks, where the sample
 /// variance (and so the error) is undefined, never a "± 0".
 pub fn defined_stderr(walks: u64, stderr: f64) -> Option<f64> {
@@ -131,7 +149,14 @@ fn chunk_len(walks: u64, c: u64) -> u64 {
 pub trait Estimator: Sync {
     /// Estimates `f(wi, wo) |wo.z|` for every `wo` in `wos` from one set of `walks` walks from
     /// `wi`, with next-event estimation toward every `wo` at every hit.
-    fn eval_many(&self, wi: Vec3, wos: &[Vec3], walks: u64, seed: u64) -> Vec<Estimate>;
+    fn eval_many(&self, wi: Vec3, wos: &[Vec3], walks: u64, seed: u64) -> Vec<Estimate> {
+        self.eval_many_batched(wi, wos, walks, seed).estimates
+    }
+
+    /// [`Estimator::eval_many`] with the means of each chunk of [`CHUNK`] walks it is made of
+    /// (the same walks and the same estimates): independent batches, from which the Monte
+    /// Carlo error of anything computed from the estimates can be propagated.
+    fn eval_many_batched(&self, wi: Vec3, wos: &[Vec3], walks: u64, seed: u64) -> Batched;
 
     /// Fractions of the flux arriving from `wi` that leave on each side, from `walks` walks,
     /// calling `progress(n)` after each chunk of `n` walks (from any thread).
@@ -153,7 +178,13 @@ pub trait Estimator: Sync {
 macro_rules! estimators {
     ($ty:ident < $($g:ident : $b:path),* >) => {
         impl<$($g: $b),*> $crate::walk::Estimator for $ty<$($g),*> {
-            fn eval_many(&self, wi: Vec3, wos: &[Vec3], walks: u64, seed: u64) -> Vec<Estimate> {
+            fn eval_many_batched(
+                &self,
+                wi: Vec3,
+                wos: &[Vec3],
+                walks: u64,
+                seed: u64,
+            ) -> $crate::walk::Batched {
                 $crate::walk::estimate::eval_many(self, wi, wos, walks, seed)
             }
 
@@ -206,6 +237,20 @@ pub fn eval_pairs(
     eval_pairs_with_progress(estimator, pairs, walks, seed, &|_| {})
 }
 
+/// [`eval_pairs`], calling `progress(walks)` after the walks of each incident direction.
+pub fn eval_pairs_with_progress(
+    estimator: &dyn Estimator,
+    pairs: &[(Vec3, Vec3)],
+    walks: u64,
+    seed: u64,
+    progress: &dyn Fn(u64),
+) -> Vec<Estimate> {
+    batched_pairs(estimator, pairs, walks, seed, progress)
+        .into_iter()
+        .map(|p| p.estimate)
+        .collect()
+}
+
 /// The distinct incident directions of `pairs` (bit for bit, `-0.0` as `0.0`), in order of
 /// first appearance: the walks [`eval_pairs`] runs are `walks` per direction.
 pub fn distinct_incidences(pairs: &[(Vec3, Vec3)]) -> Vec<Vec3> {
@@ -230,31 +275,53 @@ fn incidence_groups(pairs: &[(Vec3, Vec3)]) -> Vec<(Vec3, Vec<usize>)> {
     groups
 }
 
-/// [`eval_pairs`], calling `progress(walks)` after the walks of each incident direction.
-pub fn eval_pairs_with_progress(
+/// The estimate of one pair by [`eval_pairs_batched`]: the estimate, the index of the group of
+/// pairs that share its `wi` (and its walks; groups are numbered in order of first appearance),
+/// and its per-chunk means ([`Batched`]). Estimates of one group are correlated (the same
+/// walks), estimates of different groups independent.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PairEstimate {
+    pub estimate: Estimate,
+    pub group: usize,
+    pub batch_means: Vec<f64>,
+}
+
+/// [`eval_pairs`] with each estimate's walk group and per-chunk means: the same walks and the
+/// same estimates.
+pub fn eval_pairs_batched(
+    estimator: &dyn Estimator,
+    pairs: &[(Vec3, Vec3)],
+    walks: u64,
+    seed: u64,
+) -> Vec<PairEstimate> {
+    batched_pairs(estimator, pairs, walks, seed, &|_| {})
+}
+
+/// [`eval_pairs_batched`], calling `progress(walks)` after each incident direction.
+fn batched_pairs(
     estimator: &dyn Estimator,
     pairs: &[(Vec3, Vec3)],
     walks: u64,
     seed: u64,
     progress: &dyn Fn(u64),
-) -> Vec<Estimate> {
+) -> Vec<PairEstimate> {
     let groups = incidence_groups(pairs);
-    let mut out = vec![
-        Estimate {
-            mean: 0.0,
-            stderr: 0.0
-        };
-        pairs.len()
-    ];
-    for (wi, members) in &groups {
+    let mut out = vec![None; pairs.len()];
+    for (g, (wi, members)) in groups.iter().enumerate() {
         let wos: Vec<Vec3> = members.iter().map(|&k| pairs[k].1).collect();
-        let est = estimator.eval_many(*wi, &wos, walks, direction_seed(seed, *wi));
-        for (&k, e) in members.iter().zip(est) {
-            out[k] = e;
+        let b = estimator.eval_many_batched(*wi, &wos, walks, direction_seed(seed, *wi));
+        for (i, (&k, e)) in members.iter().zip(b.estimates).enumerate() {
+            out[k] = Some(PairEstimate {
+                estimate: e,
+                group: g,
+                batch_means: b.batches.iter().map(|c| c[i]).collect(),
+            });
         }
         progress(walks);
     }
-    out
+    out.into_iter()
+        .map(|p| p.expect("every pair is in a group"))
+        .collect()
 }
 
 /// Estimates `f(wi, wo) |wo.z|` for every `wo` in `wos` from one set of `walks` walks from
@@ -266,7 +333,7 @@ pub(crate) fn eval_many<W: Walker>(
     wos: &[Vec3],
     walks: u64,
     seed: u64,
-) -> Vec<Estimate> {
+) -> Batched {
     let targets: Vec<Option<Target>> = wos.iter().map(|&wo| w.target(wo)).collect();
     let k = wos.len();
     let start = (wi.z != 0.0).then(|| w.start(wi));
@@ -310,7 +377,13 @@ pub(crate) fn eval_many<W: Walker>(
             t.merge(s);
         }
     }
-    total.iter().map(Sums::estimate).collect()
+    Batched {
+        estimates: total.iter().map(Sums::estimate).collect(),
+        batches: chunk_sums
+            .iter()
+            .map(|sums| sums.iter().map(|s| s.mean).collect())
+            .collect(),
+    }
 }
 
 /// Fractions of the flux arriving from `wi` that leave on each side, from `walks` walks, calling

@@ -51,8 +51,8 @@ mod null;
 pub use cost::{LONG_RUN_SECONDS, PILOT_WALKS, WalkCost, describe_seconds};
 pub use engine::{WalkEnd, WalkSample};
 pub use estimate::{
-    AlbedoEstimate, CHUNK, Estimate, Estimator, defined_stderr, direction_seed,
-    distinct_incidences, eval_pairs, eval_pairs_with_progress,
+    AlbedoEstimate, Batched, CHUNK, Estimate, Estimator, PairEstimate, chunk_walks, defined_stderr,
+    direction_seed, distinct_incidences, eval_pairs, eval_pairs_batched, eval_pairs_with_progress,
 };
 pub use facet::{
     BsdfFacet, ConductorFacet, DielectricFacet, Facet, FacetSample, HeightFieldHit,

@@ -2,7 +2,7 @@
 //! [`NullMicrosurface`].
 
 use super::engine::{self, Hit, Start, Target, WalkEnd, WalkSample, Walker, mirrored_depth};
-use super::estimate::{AlbedoEstimate, Estimate, estimators};
+use super::estimate::{AlbedoEstimate, estimators};
 use super::{Facet, MAX_BOUNCES, ScatteringOrders, VisibleNormals};
 use crate::error::ParamError;
 use crate::math::{Frame, Vec3, safe_sqrt};
