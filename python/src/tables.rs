@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use pyo3::exceptions::PyTypeError;
+use pyo3::exceptions::{PyOverflowError, PyTypeError};
 use pyo3::prelude::*;
 use stfit_tables::compute::compute;
 use stfit_tables::format::{Format, c_header, csv, npy, shard};
@@ -35,6 +35,22 @@ fn axis(name: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Axis>> 
         .map_err(|e| arg_error(name, e))
 }
 
+/// A non-negative integer option (`walks`, `seed`): a negative or too large integer is a
+/// `ValueError` naming the option, as any other bad value.
+fn unsigned(name: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<u64>> {
+    let Some(value) = value else {
+        return Ok(None);
+    };
+    match value.extract::<u64>() {
+        Ok(v) => Ok(Some(v)),
+        Err(e) if e.is_instance_of::<PyOverflowError>(value.py()) => Err(arg_error(
+            name,
+            format!("{value} is not an integer in [0, 2^64)"),
+        )),
+        Err(e) => Err(e),
+    }
+}
+
 /// A named choice, as on the command line.
 fn choice<T: Choice>(name: &str, value: Option<&str>) -> PyResult<Option<T>> {
     value
@@ -58,8 +74,8 @@ fn options(
     orders: &str,
     masking: &str,
     layout: Option<&str>,
-    walks: Option<u64>,
-    seed: Option<u64>,
+    walks: Option<&Bound<'_, PyAny>>,
+    seed: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<TableOptions> {
     Ok(TableOptions {
         ndf: Some(Choice::parse("ndf", ndf).map_err(value_error)?),
@@ -74,8 +90,8 @@ fn options(
         orders: Choice::parse("orders", orders).map_err(value_error)?,
         masking: Choice::parse("masking", masking).map_err(value_error)?,
         layout: choice("layout", layout)?,
-        walks,
-        seed,
+        walks: unsigned("walks", walks)?,
+        seed: unsigned("seed", seed)?,
     })
 }
 
@@ -111,8 +127,8 @@ pub fn tables(
     layout: Option<&str>,
     format: Option<&str>,
     shard: Option<&str>,
-    walks: Option<u64>,
-    seed: Option<u64>,
+    walks: Option<&Bound<'_, PyAny>>,
+    seed: Option<&Bound<'_, PyAny>>,
     out: Option<PathBuf>,
 ) -> PyResult<Py<PyAny>> {
     let options = options(
@@ -171,8 +187,8 @@ pub fn table_spec(
     orders: &str,
     masking: &str,
     layout: Option<&str>,
-    walks: Option<u64>,
-    seed: Option<u64>,
+    walks: Option<&Bound<'_, PyAny>>,
+    seed: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let spec = options(
         ndf, alpha_grid, gamma_grid, mu_grid, eta_grid, side, surface, n, k, orders, masking,

@@ -94,6 +94,9 @@ def test_bad_table_options_raise_value_error(tmp_path):
         (dict(SMALL_KW, surface="conductor"), "eta_grid applies only to surface='dielectric'"),
         (dict(SMALL_KW, n=0.2), "n and k apply only to surface='conductor'"),
         (dict(SMALL_KW, orders="all", walks=0), "walks per cell"),
+        (dict(SMALL_KW, orders="all", walks=-5), "walks: -5 is not an integer"),
+        (dict(SMALL_KW, orders="all", seed=2**64), "seed: 18446744073709551616 is not"),
+        (dict(SMALL_KW, alpha_grid=[]), "alpha axis has no values"),
         (dict(SMALL_KW, masking="smith"), "masking: unknown value 'smith'"),
         (dict(SMALL_KW, format="exr"), "format: unknown value 'exr'"),
     ]
