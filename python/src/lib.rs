@@ -38,6 +38,8 @@ fn _stfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit::report, m)?)?;
     m.add_function(wrap_pyfunction!(export::export, m)?)?;
     m.add_class::<tables::PyTable>()?;
+    m.add_function(wrap_pyfunction!(tables::tables, m)?)?;
+    m.add_function(wrap_pyfunction!(tables::table_spec, m)?)?;
     m.add_function(wrap_pyfunction!(tables::table_shard, m)?)?;
     m.add_function(wrap_pyfunction!(tables::merge_table_shards, m)?)?;
     Ok(())

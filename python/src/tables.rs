@@ -1,14 +1,203 @@
-//! `stfit.table_shard` and `stfit.merge_table_shards`: directional-albedo tables of
-//! `stfit-tables` computed as shards (one task each, on one machine or a cluster) and merged
-//! into the table `stfit tables` writes, in its formats.
+//! `stfit.tables`, `stfit.table_spec`, `stfit.table_shard` and `stfit.merge_table_shards`:
+//! directional-albedo tables of `stfit-tables` with the options of `stfit tables`
+//! (`stfit_tables::options`, the same rules and bytes), computed whole or as shards (one task
+//! each, on one machine or a cluster) and merged into the table `stfit tables` writes.
 
+use std::path::{Path, PathBuf};
+
+use pyo3::exceptions::{PyOverflowError, PyTypeError};
 use pyo3::prelude::*;
 use stfit_tables::compute::compute;
-use stfit_tables::format::{c_header, csv, npy, shard};
+use stfit_tables::format::{Format, c_header, csv, npy, shard};
+use stfit_tables::grid::Axis;
+use stfit_tables::options::{Choice, Naming, Output, Plan, TableOptions, write_file};
 use stfit_tables::single::Quadrature;
-use stfit_tables::{Shard, Table, TableSpec};
+use stfit_tables::{Shard, SpecError, Table, TableSpec};
 
-use crate::errors::{arg_error, value_error};
+use crate::errors::{arg_error, os_error, value_error};
+
+/// An axis option: the text of `--alpha-grid` and the like (`START:END:COUNT`,
+/// `MAP:START:END:COUNT`, `v1,v2,...`) or a sequence of listed values.
+fn axis(name: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Axis>> {
+    let Some(value) = value else {
+        return Ok(None);
+    };
+    if let Ok(text) = value.extract::<String>() {
+        return text.parse().map(Some).map_err(|e| arg_error(name, e));
+    }
+    let values: Vec<f64> = value.extract().map_err(|_| {
+        PyTypeError::new_err(format!(
+            "{name}: expected an axis text such as '0.1:0.9:5' or a sequence of numbers"
+        ))
+    })?;
+    Axis::listed(values)
+        .map(Some)
+        .map_err(|e| arg_error(name, e))
+}
+
+/// A non-negative integer option (`walks`, `seed`): a negative or too large integer is a
+/// `ValueError` naming the option, as any other bad value.
+fn unsigned(name: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<u64>> {
+    let Some(value) = value else {
+        return Ok(None);
+    };
+    match value.extract::<u64>() {
+        Ok(v) => Ok(Some(v)),
+        Err(e) if e.is_instance_of::<PyOverflowError>(value.py()) => Err(arg_error(
+            name,
+            format!("{value} is not an integer in [0, 2^64)"),
+        )),
+        Err(e) => Err(e),
+    }
+}
+
+/// A named choice, as on the command line.
+fn choice<T: Choice>(name: &str, value: Option<&str>) -> PyResult<Option<T>> {
+    value
+        .map(|v| T::parse(name, v))
+        .transpose()
+        .map_err(value_error)
+}
+
+/// The library's options of the keyword arguments (shared by `tables` and `table_spec`).
+#[allow(clippy::too_many_arguments)]
+fn options(
+    ndf: &str,
+    alpha_grid: Option<&Bound<'_, PyAny>>,
+    gamma_grid: Option<&Bound<'_, PyAny>>,
+    mu_grid: Option<&Bound<'_, PyAny>>,
+    eta_grid: Option<&Bound<'_, PyAny>>,
+    side: Option<&str>,
+    surface: &str,
+    n: Option<f64>,
+    k: Option<f64>,
+    orders: &str,
+    masking: &str,
+    layout: Option<&str>,
+    walks: Option<&Bound<'_, PyAny>>,
+    seed: Option<&Bound<'_, PyAny>>,
+) -> PyResult<TableOptions> {
+    Ok(TableOptions {
+        ndf: Some(Choice::parse("ndf", ndf).map_err(value_error)?),
+        alpha_grid: axis("alpha_grid", alpha_grid)?,
+        gamma_grid: axis("gamma_grid", gamma_grid)?,
+        mu_grid: axis("mu_grid", mu_grid)?,
+        eta_grid: axis("eta_grid", eta_grid)?,
+        side: choice("side", side)?,
+        surface: Choice::parse("surface", surface).map_err(value_error)?,
+        n,
+        k,
+        orders: Choice::parse("orders", orders).map_err(value_error)?,
+        masking: Choice::parse("masking", masking).map_err(value_error)?,
+        layout: choice("layout", layout)?,
+        walks: unsigned("walks", walks)?,
+        seed: unsigned("seed", seed)?,
+    })
+}
+
+/// Options that cannot make a table raise `ValueError` (the computation's own failures too).
+fn spec_error(e: SpecError) -> PyErr {
+    value_error(e)
+}
+
+/// Computes the directional-albedo table the options describe, as `stfit tables` does with
+/// the same options (the same defaults, checks and bytes), with the GIL released, on all
+/// cores. Returns the `Table`, or with `shard` (`"K/N"`) the shard file's JSON text; writes
+/// it to `out` when given (the format from `format` or the extension of `out`, as the
+/// command line). Walks that reached the safety cap on scattering events are a warning.
+#[pyfunction]
+#[pyo3(signature = (ndf, *, alpha_grid = None, gamma_grid = None, mu_grid = None,
+    eta_grid = None, side = None, surface = "dielectric", n = None, k = None,
+    orders = "single", masking = "correlated", layout = None, format = None, shard = None,
+    walks = None, seed = None, out = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn tables(
+    py: Python<'_>,
+    ndf: &str,
+    alpha_grid: Option<&Bound<'_, PyAny>>,
+    gamma_grid: Option<&Bound<'_, PyAny>>,
+    mu_grid: Option<&Bound<'_, PyAny>>,
+    eta_grid: Option<&Bound<'_, PyAny>>,
+    side: Option<&str>,
+    surface: &str,
+    n: Option<f64>,
+    k: Option<f64>,
+    orders: &str,
+    masking: &str,
+    layout: Option<&str>,
+    format: Option<&str>,
+    shard: Option<&str>,
+    walks: Option<&Bound<'_, PyAny>>,
+    seed: Option<&Bound<'_, PyAny>>,
+    out: Option<PathBuf>,
+) -> PyResult<Py<PyAny>> {
+    let options = options(
+        ndf, alpha_grid, gamma_grid, mu_grid, eta_grid, side, surface, n, k, orders, masking,
+        layout, walks, seed,
+    )?;
+    let format: Option<Format> = choice("format", format)?;
+    let part: Option<Shard> = shard
+        .map(|s| s.parse().map_err(|e| arg_error("shard", e)))
+        .transpose()?;
+    let plan =
+        Plan::new(&options, format, part, out.as_deref(), Naming::Keywords).map_err(spec_error)?;
+    let is_shard = matches!(plan.output, Output::Shard(_));
+    let (run, bytes) = py
+        .detach(|| {
+            let run = plan.run(&|_| {})?;
+            let bytes = if out.is_some() || is_shard {
+                Some(run.bytes()?)
+            } else {
+                None
+            };
+            Ok::<_, SpecError>((run, bytes))
+        })
+        .map_err(spec_error)?;
+    if let Some(warning) = run.truncation_warning() {
+        py.import("warnings")?.call_method1("warn", (warning,))?;
+    }
+    if let (Some(path), Some(bytes)) = (out.as_deref(), &bytes) {
+        write_file(path, bytes).map_err(os_error)?;
+    }
+    if is_shard {
+        let text = String::from_utf8(bytes.unwrap_or_default()).map_err(value_error)?;
+        return Ok(text.into_pyobject(py)?.into_any().unbind());
+    }
+    Ok(Py::new(py, PyTable(run.table()))?.into_any())
+}
+
+/// The JSON text of the table specification the options describe (the options of
+/// `stfit.tables` without `format`, `shard` and `out`), which `table_shard` takes: one task of
+/// a cluster computes one shard of it.
+#[pyfunction]
+#[pyo3(signature = (ndf, *, alpha_grid = None, gamma_grid = None, mu_grid = None,
+    eta_grid = None, side = None, surface = "dielectric", n = None, k = None,
+    orders = "single", masking = "correlated", layout = None, walks = None, seed = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn table_spec(
+    ndf: &str,
+    alpha_grid: Option<&Bound<'_, PyAny>>,
+    gamma_grid: Option<&Bound<'_, PyAny>>,
+    mu_grid: Option<&Bound<'_, PyAny>>,
+    eta_grid: Option<&Bound<'_, PyAny>>,
+    side: Option<&str>,
+    surface: &str,
+    n: Option<f64>,
+    k: Option<f64>,
+    orders: &str,
+    masking: &str,
+    layout: Option<&str>,
+    walks: Option<&Bound<'_, PyAny>>,
+    seed: Option<&Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let spec = options(
+        ndf, alpha_grid, gamma_grid, mu_grid, eta_grid, side, surface, n, k, orders, masking,
+        layout, walks, seed,
+    )?
+    .spec(Naming::Keywords)
+    .map_err(spec_error)?;
+    serde_json::to_string(&spec).map_err(value_error)
+}
 
 /// Computes shard `index` of `count` (1 <= index <= count) of the table `spec`, given as the JSON
 /// text of a table specification (the `spec` of a shard file, `tables-format.md`), with the GIL
@@ -62,5 +251,14 @@ impl PyTable {
     /// The C header text (Cycles' layout).
     fn c_header(&self) -> String {
         c_header::write(&self.0)
+    }
+
+    /// Writes the table to `out` as `stfit tables merge --out OUT` does: in `format` (`csv`,
+    /// `npy` or `c`), by default from the extension of `out`.
+    #[pyo3(signature = (out, format = None))]
+    fn write(&self, out: PathBuf, format: Option<&str>) -> PyResult<()> {
+        let format: Option<Format> = choice("format", format)?;
+        let format = format.unwrap_or_else(|| Format::from_path(&out));
+        write_file(Path::new(&out), &format.write(&self.0)).map_err(os_error)
     }
 }

@@ -41,6 +41,8 @@ from ._stfit import (
     synth,
     table,
     table_shard,
+    table_spec,
+    tables,
 )
 
 __all__ = [
@@ -67,4 +69,6 @@ __all__ = [
     "synth",
     "table",
     "table_shard",
+    "table_spec",
+    "tables",
 ]

@@ -331,6 +331,74 @@ def export(
     targets. Clamps and other departures from the fit are issued as warnings; a bad option or
     fit raises ``ValueError``, an unreadable file ``OSError``."""
 
+AxisLike = Union[str, Sequence[float]]
+
+def tables(
+    ndf: str,
+    *,
+    alpha_grid: Optional[AxisLike] = None,
+    gamma_grid: Optional[AxisLike] = None,
+    mu_grid: Optional[AxisLike] = None,
+    eta_grid: Optional[AxisLike] = None,
+    side: Optional[str] = None,
+    surface: str = "dielectric",
+    n: Optional[float] = None,
+    k: Optional[float] = None,
+    orders: str = "single",
+    masking: str = "correlated",
+    layout: Optional[str] = None,
+    format: Optional[str] = None,
+    shard: Optional[str] = None,
+    walks: Optional[int] = None,
+    seed: Optional[int] = None,
+    out: Optional[PathLike] = None,
+) -> Union[Table, str]:
+    """Computes a directional-albedo (energy-compensation) table as ``stfit tables`` does:
+    the same options, defaults and checks, the same bytes (tables-format.md), with the GIL
+    released, on all cores.
+
+    ``ndf``: ``beckmann``, ``ggx`` or ``student-t``. Axes (``alpha_grid``: alpha in [1e-8, 4];
+    ``gamma_grid``: Student-T only, gamma in [1.6, 40]; ``mu_grid``: the cosine of incidence in
+    [1e-4, 1]; ``eta_grid``: dielectrics only, n_inside / n_outside in (1, 100]): the text of
+    the command line, ``"START:END:COUNT"``, ``"MAP:START:END:COUNT"`` (MAP ``lin``, ``log``,
+    ``sq``: alpha = x^2, ``cycles-ior`` for eta) or ``"v1,v2,..."``, or a sequence of values.
+    ``side``: ``outside``, ``inside`` or ``both`` (default for dielectrics; conductors:
+    outside only). ``surface``: ``dielectric`` or ``conductor`` (Fresnel with ``n`` and ``k``
+    together, else mirror facets). ``orders``: ``single`` (E_ss by quadrature), ``multiple``
+    (also orders >= 2 by random walks) or ``all`` (also E_all). ``masking`` of E_ss:
+    ``correlated``, ``reflection-form`` or ``separable``. ``layout="cycles"``: Blender Cycles'
+    nodes instead of the alpha, mu and eta axes. ``walks`` (default 100000) and ``seed``
+    (default 1): orders multiple or all only.
+
+    Returns the ``Table``; with ``shard="K/N"`` the shard file's JSON text instead (for
+    ``merge_table_shards``). With ``out``, also writes the file ``stfit tables --out`` writes:
+    in ``format`` (``csv``, ``npy`` or ``c``; not with ``shard``), by default from the
+    extension of ``out`` (``.npy``; ``.h``, ``.hpp``, ``.c``, ``.inc`` for C; else CSV). Bad
+    options raise ``ValueError`` (``TypeError`` for an axis of the wrong type), a file that
+    cannot be written ``OSError``; walks that reached the safety cap on scattering events are
+    a warning."""
+
+def table_spec(
+    ndf: str,
+    *,
+    alpha_grid: Optional[AxisLike] = None,
+    gamma_grid: Optional[AxisLike] = None,
+    mu_grid: Optional[AxisLike] = None,
+    eta_grid: Optional[AxisLike] = None,
+    side: Optional[str] = None,
+    surface: str = "dielectric",
+    n: Optional[float] = None,
+    k: Optional[float] = None,
+    orders: str = "single",
+    masking: str = "correlated",
+    layout: Optional[str] = None,
+    walks: Optional[int] = None,
+    seed: Optional[int] = None,
+) -> str:
+    """The JSON text of the table specification the options of ``tables`` describe (checked
+    as ``tables`` checks them), for ``table_shard``: one task of a cluster computes one shard,
+    ``merge_table_shards`` joins them into the table ``tables`` computes."""
+
 def table_shard(spec: str, index: int = 1, count: int = 1) -> str:
     """Computes shard ``index`` of ``count`` of a directional-albedo (energy) table, ``spec``
     being the JSON text of a table specification (the ``spec`` of a shard file of
@@ -347,6 +415,9 @@ class Table:
     def csv(self) -> str: ...
     def c_header(self) -> str:
         """The C header in Cycles' layout."""
+    def write(self, out: PathLike, format: Optional[str] = None) -> None:
+        """Writes the table as ``stfit tables merge --out`` does: in ``format`` (``csv``,
+        ``npy`` or ``c``), by default from the extension of ``out``."""
 
 def merge_table_shards(shards: Sequence[str]) -> Table:
     """Joins shard texts (every shard 1..N of one specification exactly once) into the table

@@ -7,11 +7,13 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use stfit_core::walk::ScatteringOrders;
-use stfit_tables::compute::{self, Table, work_units};
 use stfit_tables::format::{Format, shard};
 use stfit_tables::grid::Axis;
-use stfit_tables::single::{Quadrature, TableMasking};
-use stfit_tables::{Family, Shard, Side, SpecError, Surface, TableSpec};
+use stfit_tables::options::{
+    Layout, Naming, Plan, SideChoice, SurfaceKind, TableOptions, write_file,
+};
+use stfit_tables::single::TableMasking;
+use stfit_tables::{Family, Shard, SpecError};
 
 /// Arguments of `stfit tables`.
 #[derive(Debug, clap::Args)]
@@ -177,99 +179,43 @@ pub fn run(args: Args) -> CmdResult {
     }
 }
 
-/// The table specification the options describe, or a usage error naming the option.
-fn spec(a: &TableArgs) -> Result<TableSpec, CmdError> {
-    let family = match a.ndf {
-        Some(NdfArg::Beckmann) => Family::Beckmann,
-        Some(NdfArg::Ggx) => Family::Ggx,
-        Some(NdfArg::StudentT) => Family::StudentT,
-        None => return Err(usage("--ndf is required")),
-    };
-    let surface = match (a.surface, a.n, a.k) {
-        (SurfaceArg::Dielectric, None, None) => Surface::Dielectric,
-        (SurfaceArg::Dielectric, _, _) => {
-            return Err(usage("--n and --k apply only to --surface conductor"));
-        }
-        (SurfaceArg::Conductor, None, None) => Surface::Mirror,
-        (SurfaceArg::Conductor, Some(n), Some(k)) => Surface::Conductor { n, k },
-        (SurfaceArg::Conductor, _, _) => return Err(usage("--n and --k go together")),
-    };
-    let orders = match a.orders {
-        OrdersArg::Single => ScatteringOrders::Single,
-        OrdersArg::Multiple => ScatteringOrders::Multiple,
-        OrdersArg::All => ScatteringOrders::All,
-    };
-    let masking = match a.masking {
-        MaskingArg::Correlated => TableMasking::Correlated,
-        MaskingArg::ReflectionForm => TableMasking::ReflectionForm,
-        MaskingArg::Separable => TableMasking::Separable,
-    };
-    if family != Family::StudentT && a.gamma_grid.is_some() {
-        return Err(usage("--gamma-grid applies only to --ndf student-t"));
+/// The library's options of the command-line values.
+fn options(a: &TableArgs) -> TableOptions {
+    TableOptions {
+        ndf: a.ndf.map(|f| match f {
+            NdfArg::Beckmann => Family::Beckmann,
+            NdfArg::Ggx => Family::Ggx,
+            NdfArg::StudentT => Family::StudentT,
+        }),
+        alpha_grid: a.alpha_grid.clone(),
+        gamma_grid: a.gamma_grid.clone(),
+        mu_grid: a.mu_grid.clone(),
+        eta_grid: a.eta_grid.clone(),
+        side: a.side.map(|s| match s {
+            SideArg::Outside => SideChoice::Outside,
+            SideArg::Inside => SideChoice::Inside,
+            SideArg::Both => SideChoice::Both,
+        }),
+        surface: match a.surface {
+            SurfaceArg::Dielectric => SurfaceKind::Dielectric,
+            SurfaceArg::Conductor => SurfaceKind::Conductor,
+        },
+        n: a.n,
+        k: a.k,
+        orders: match a.orders {
+            OrdersArg::Single => ScatteringOrders::Single,
+            OrdersArg::Multiple => ScatteringOrders::Multiple,
+            OrdersArg::All => ScatteringOrders::All,
+        },
+        masking: match a.masking {
+            MaskingArg::Correlated => TableMasking::Correlated,
+            MaskingArg::ReflectionForm => TableMasking::ReflectionForm,
+            MaskingArg::Separable => TableMasking::Separable,
+        },
+        layout: a.layout.map(|LayoutArg::Cycles| Layout::Cycles),
+        walks: a.walks,
+        seed: a.seed,
     }
-    if family == Family::StudentT && a.gamma_grid.is_none() {
-        return Err(usage("--gamma-grid is required for --ndf student-t"));
-    }
-    let dielectric = surface == Surface::Dielectric;
-    if !dielectric && a.eta_grid.is_some() {
-        return Err(usage("--eta-grid applies only to --surface dielectric"));
-    }
-    let mut spec = if a.layout == Some(LayoutArg::Cycles) {
-        for (set, name) in [
-            (a.alpha_grid.is_some(), "--alpha-grid"),
-            (a.mu_grid.is_some(), "--mu-grid"),
-            (a.eta_grid.is_some(), "--eta-grid"),
-        ] {
-            if set {
-                return Err(usage(format!("{name} conflicts with --layout cycles")));
-            }
-        }
-        TableSpec::cycles(family, surface, masking, orders, a.gamma_grid.clone())
-    } else {
-        let need = |axis: &Option<Axis>, name: &str| {
-            axis.clone()
-                .ok_or_else(|| usage(format!("{name} is required (or --layout cycles)")))
-        };
-        TableSpec {
-            family,
-            surface,
-            masking,
-            orders,
-            sides: vec![Side::Outside, Side::Inside],
-            alpha: need(&a.alpha_grid, "--alpha-grid")?,
-            gamma: a.gamma_grid.clone(),
-            eta: if dielectric {
-                Some(need(&a.eta_grid, "--eta-grid")?)
-            } else {
-                None
-            },
-            mu: need(&a.mu_grid, "--mu-grid")?,
-            walks: 100_000,
-            seed: 1,
-        }
-    };
-    spec.sides = match (a.side, dielectric) {
-        (None | Some(SideArg::Both), true) => vec![Side::Outside, Side::Inside],
-        (None | Some(SideArg::Outside), _) => vec![Side::Outside],
-        (Some(SideArg::Inside), true) => vec![Side::Inside],
-        (Some(_), false) => {
-            return Err(usage(
-                "--side: conductors are two-sided; tables are for light from outside",
-            ));
-        }
-    };
-    if orders == ScatteringOrders::Single {
-        if a.walks.is_some() || a.seed.is_some() {
-            return Err(usage(
-                "--walks and --seed apply only to --orders multiple or all",
-            ));
-        }
-    } else {
-        spec.walks = a.walks.unwrap_or(spec.walks);
-        spec.seed = a.seed.unwrap_or(spec.seed);
-    }
-    spec.check().map_err(spec_error)?;
-    Ok(spec)
 }
 
 /// An invalid specification is a usage error (exit 2); a failed computation is not.
@@ -278,12 +224,6 @@ fn spec_error(e: SpecError) -> CmdError {
         SpecError::NotFinite(m) => CmdError::Failed(m),
         e => usage(e.to_string()),
     }
-}
-
-/// Writes `bytes` to `path`.
-fn write(path: &Path, bytes: &[u8]) -> CmdResult {
-    std::fs::write(path, bytes)
-        .map_err(|e| CmdError::Failed(format!("{}: cannot write: {e}", path.display())))
 }
 
 /// The progress bar of a run, drawn when stderr is a terminal.
@@ -298,53 +238,35 @@ fn progress_bar(units: u64) -> Option<ProgressBar> {
 }
 
 fn compute_table(a: &TableArgs) -> CmdResult {
-    let spec = spec(a)?;
     let out = a.out.as_deref().ok_or_else(|| usage("--out is required"))?;
-    let shard = a.shard.unwrap_or(Shard::WHOLE);
-    if a.shard.is_some() && a.format.is_some() {
-        return Err(usage(
-            "--format does not apply to --shard (shards are merged with stfit tables merge)",
-        ));
-    }
-    shard.check(spec.lines()).map_err(spec_error)?;
-    let bar = progress_bar(work_units(&spec, shard));
+    let plan = Plan::new(
+        &options(a),
+        a.format.map(Format::from),
+        a.shard,
+        Some(out),
+        Naming::Flags,
+    )
+    .map_err(spec_error)?;
+    let bar = progress_bar(plan.work_units());
     let progress = |n| {
         if let Some(bar) = &bar {
             bar.inc(n);
         }
     };
-    let rule = Quadrature::default();
-    let lines = compute::compute(&spec, shard, &rule, &progress).map_err(spec_error)?;
+    let run = plan.run(&progress).map_err(spec_error)?;
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    let truncated = lines
-        .iter()
-        .flat_map(|l| &l.cells)
-        .filter_map(|c| c.walk.map(|w| w.truncated))
-        .fold(0.0, f64::max);
-    if truncated > 0.0 {
-        eprintln!(
-            "warning: walks that reached the safety cap on scattering events dropped up to \
-             {truncated:.3e} of the flux of a cell"
-        );
+    if let Some(warning) = run.truncation_warning() {
+        eprintln!("warning: {warning}");
     }
-    let cells: usize = lines.iter().map(|l| l.cells.len()).sum();
-    if a.shard.is_some() {
-        let text = shard::write(&spec, shard, &lines)
-            .map_err(|e| CmdError::Failed(format!("cannot encode the shard: {e}")))?;
-        write(out, text.as_bytes())?;
-        return print_stdout(&format!(
-            "shard {shard}: {} lines, {cells} cells -> {}\n",
-            lines.len(),
-            out.display()
-        ));
-    }
-    let format = a
-        .format
-        .map_or_else(|| Format::from_path(out), Format::from);
-    write(out, &format.write(&Table { spec, lines }))?;
-    print_stdout(&format!("{cells} cells -> {}\n", out.display()))
+    write(out, &run.bytes().map_err(spec_error)?)?;
+    print_stdout(&format!("{}\n", run.summary(out)))
+}
+
+/// Writes `bytes` to `path`.
+fn write(path: &Path, bytes: &[u8]) -> CmdResult {
+    write_file(path, bytes).map_err(CmdError::Failed)
 }
 
 fn merge(m: &MergeArgs) -> CmdResult {

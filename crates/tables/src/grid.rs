@@ -83,6 +83,18 @@ impl Axis {
         Self::from_params(Mapping::List, values)
     }
 
+    /// An axis of listed values, as the text `v1,v2,...` gives them: finite, at most
+    /// `MAX_NODES` of them.
+    pub fn listed(values: Vec<f64>) -> Result<Self, String> {
+        if let Some(v) = values.iter().find(|v| !v.is_finite()) {
+            return Err(format!("'{v}' is not a finite number"));
+        }
+        if values.len() > MAX_NODES {
+            return Err(format!("more than {MAX_NODES} values"));
+        }
+        Ok(Self::list(values))
+    }
+
     /// Number of nodes.
     pub fn len(&self) -> usize {
         self.values.len()
@@ -143,10 +155,7 @@ impl FromStr for Axis {
         let parts: Vec<&str> = s.split(':').collect();
         if parts.len() == 1 {
             let values = s.split(',').map(number).collect::<Result<Vec<_>, _>>()?;
-            if values.len() > MAX_NODES {
-                return Err(format!("more than {MAX_NODES} values"));
-            }
-            return Ok(Self::list(values));
+            return Self::listed(values);
         }
         let (mapping, rest) = match parts.as_slice() {
             [m, _, _] if m.trim().starts_with(|c: char| c.is_ascii_alphabetic()) => {

@@ -5,12 +5,15 @@
 //! - [`spec`] and [`grid`]: what a table holds and where its nodes are;
 //! - [`compute`]: the parallel, deterministic computation of a table or a shard of it, with the
 //!   random walks for orders >= 2;
+//! - [`options`]: the options of `stfit tables` and `stfit.tables`, their defaults and checks,
+//!   and the run that computes and encodes the file they ask for;
 //! - [`format`]: CSV, NumPy `.npy`, C headers in Cycles' layout, and shard files with their merge.
 
 pub mod compute;
 pub mod error;
 pub mod format;
 pub mod grid;
+pub mod options;
 pub mod single;
 pub mod spec;
 
