@@ -245,10 +245,20 @@ pub fn eval_pairs_with_progress(
     seed: u64,
     progress: &dyn Fn(u64),
 ) -> Vec<Estimate> {
-    batched_pairs(estimator, pairs, walks, seed, progress)
-        .into_iter()
-        .map(|p| p.estimate)
-        .collect()
+    let mut out = vec![
+        Estimate {
+            mean: 0.0,
+            stderr: 0.0
+        };
+        pairs.len()
+    ];
+    for_each_incidence(estimator, pairs, walks, seed, |_, members, b| {
+        for (&k, e) in members.iter().zip(b.estimates) {
+            out[k] = e;
+        }
+        progress(walks);
+    });
+    out
 }
 
 /// The distinct incident directions of `pairs` (bit for bit, `-0.0` as `0.0`), in order of
@@ -294,22 +304,8 @@ pub fn eval_pairs_batched(
     walks: u64,
     seed: u64,
 ) -> Vec<PairEstimate> {
-    batched_pairs(estimator, pairs, walks, seed, &|_| {})
-}
-
-/// [`eval_pairs_batched`], calling `progress(walks)` after each incident direction.
-fn batched_pairs(
-    estimator: &dyn Estimator,
-    pairs: &[(Vec3, Vec3)],
-    walks: u64,
-    seed: u64,
-    progress: &dyn Fn(u64),
-) -> Vec<PairEstimate> {
-    let groups = incidence_groups(pairs);
     let mut out = vec![None; pairs.len()];
-    for (g, (wi, members)) in groups.iter().enumerate() {
-        let wos: Vec<Vec3> = members.iter().map(|&k| pairs[k].1).collect();
-        let b = estimator.eval_many_batched(*wi, &wos, walks, direction_seed(seed, *wi));
+    for_each_incidence(estimator, pairs, walks, seed, |g, members, b| {
         for (i, (&k, e)) in members.iter().zip(b.estimates).enumerate() {
             out[k] = Some(PairEstimate {
                 estimate: e,
@@ -317,11 +313,31 @@ fn batched_pairs(
                 batch_means: b.batches.iter().map(|c| c[i]).collect(),
             });
         }
-        progress(walks);
-    }
+    });
     out.into_iter()
         .map(|p| p.expect("every pair is in a group"))
         .collect()
+}
+
+/// Runs the walks of each incident direction of `pairs` (seeded by [`direction_seed`]) and
+/// hands `visit` the group's index, the indices of its pairs and their estimates, group by
+/// group in order of first appearance. The one walk loop of [`eval_pairs`] and
+/// [`eval_pairs_batched`]; only the batched form keeps each pair's chunk means.
+fn for_each_incidence(
+    estimator: &dyn Estimator,
+    pairs: &[(Vec3, Vec3)],
+    walks: u64,
+    seed: u64,
+    mut visit: impl FnMut(usize, &[usize], Batched),
+) {
+    for (g, (wi, members)) in incidence_groups(pairs).iter().enumerate() {
+        let wos: Vec<Vec3> = members.iter().map(|&k| pairs[k].1).collect();
+        visit(
+            g,
+            members,
+            estimator.eval_many_batched(*wi, &wos, walks, direction_seed(seed, *wi)),
+        );
+    }
 }
 
 /// Estimates `f(wi, wo) |wo.z|` for every `wo` in `wos` from one set of `walks` walks from
