@@ -364,6 +364,8 @@ fn param(p: &'static str) -> impl Fn(ParamError) -> SurfaceError {
 }
 
 /// How a surface's BSDF is evaluated (see [`Surface::evaluation`]).
+// The analytic variant holds a Student-T NDF inline (see `AnyNdf`).
+#[allow(clippy::large_enum_variant)]
 pub enum Evaluation {
     /// The closed-form single-scattering BSDF.
     Analytic(RoughDielectric<AnyNdf>),
@@ -445,6 +447,8 @@ pub enum SurfaceNdf {
 }
 
 /// A checked porous NDF with its base.
+// The Student-T variant holds its NDF inline (see `AnyNdf`).
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PorousNdf {
     Beckmann(Porous<HeightField<Beckmann>>),

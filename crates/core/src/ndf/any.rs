@@ -6,6 +6,9 @@ use rand::Rng;
 
 /// One of the height-field NDFs, chosen at run time. Hot loops should prefer the concrete
 /// types; this enum dispatches with a match.
+// StudentT carries the coefficient tables of its Lambda's continued fractions (768 bytes):
+// built once per NDF and read in the hot loops, so kept inline rather than boxed.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum AnyNdf {
     Beckmann(Beckmann),
