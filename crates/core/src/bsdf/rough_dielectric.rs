@@ -46,6 +46,16 @@ impl<N: Ndf> RoughDielectric<N> {
         })
     }
 
+    /// The same interface (index and masking) with the NDF `ndf`: for instance the concrete
+    /// NDF of a `RoughDielectric<AnyNdf>` ([`AnyNdf::with`](crate::ndf::AnyNdf::with)).
+    pub fn with_ndf<M: Ndf>(&self, ndf: M) -> RoughDielectric<M> {
+        RoughDielectric {
+            ndf,
+            eta: self.eta,
+            masking: self.masking,
+        }
+    }
+
     /// The microfacet distribution.
     pub fn ndf(&self) -> &N {
         &self.ndf

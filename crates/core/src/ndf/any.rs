@@ -16,6 +16,16 @@ pub enum AnyNdf {
     StudentT(StudentT),
 }
 
+macro_rules! dispatch {
+    ($self:ident, $n:ident => $e:expr) => {
+        match $self {
+            AnyNdf::Beckmann($n) => $e,
+            AnyNdf::Ggx($n) => $e,
+            AnyNdf::StudentT($n) => $e,
+        }
+    };
+}
+
 impl AnyNdf {
     /// The roughness alpha.
     pub fn alpha(&self) -> f64 {
@@ -33,16 +43,41 @@ impl AnyNdf {
             _ => None,
         }
     }
+
+    /// Runs `f` with the concrete NDF: one match, then code compiled for that NDF, whose
+    /// functions inline into `f`'s loops (where `AnyNdf`'s own [`Ndf`] methods match on
+    /// every call).
+    ///
+    /// ```
+    /// use stfit_core::Vec3;
+    /// use stfit_core::ndf::{AnyNdf, Ndf, StudentT, WithNdf};
+    ///
+    /// /// The sum of Lambda over some directions, in a loop compiled for each NDF.
+    /// struct SumLambda<'a>(&'a [Vec3]);
+    /// impl WithNdf for SumLambda<'_> {
+    ///     type Output = f64;
+    ///     fn run<N: Ndf>(self, ndf: N) -> f64 {
+    ///         self.0.iter().map(|&w| ndf.lambda(w)).sum()
+    ///     }
+    /// }
+    ///
+    /// let ndf = AnyNdf::from(StudentT::new(0.3, 2.5)?);
+    /// let dirs = [Vec3::new(0.6, 0.0, 0.8), Vec3::new(0.0, 0.8, 0.6)];
+    /// let sum = ndf.with(SumLambda(&dirs));
+    /// assert_eq!(sum, ndf.lambda(dirs[0]) + ndf.lambda(dirs[1]));
+    /// # Ok::<(), stfit_core::ParamError>(())
+    /// ```
+    pub fn with<F: WithNdf>(self, f: F) -> F::Output {
+        dispatch!(self, n => f.run(n))
+    }
 }
 
-macro_rules! dispatch {
-    ($self:ident, $n:ident => $e:expr) => {
-        match $self {
-            AnyNdf::Beckmann($n) => $e,
-            AnyNdf::Ggx($n) => $e,
-            AnyNdf::StudentT($n) => $e,
-        }
-    };
+/// A computation generic over the NDF, run on the concrete type of an [`AnyNdf`] by
+/// [`AnyNdf::with`] (a closure cannot be generic, so the computation is a type).
+pub trait WithNdf {
+    type Output;
+    /// The computation with the NDF `ndf`.
+    fn run<N: Ndf>(self, ndf: N) -> Self::Output;
 }
 
 impl Ndf for AnyNdf {

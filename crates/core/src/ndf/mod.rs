@@ -12,7 +12,7 @@ mod ggx;
 pub mod special;
 mod student_t;
 
-pub use any::AnyNdf;
+pub use any::{AnyNdf, WithNdf};
 pub use beckmann::Beckmann;
 pub use ggx::Ggx;
 pub use student_t::StudentT;
