@@ -370,8 +370,10 @@ impl<'a> BetaCf<'a> {
 }
 
 impl Ndf for StudentT {
-    /// `exp(-2 ln cos^2 - g ln(1 + tan^2 / ((g-1) alpha^2))) / (pi alpha^2)`; in log form so
-    /// that `cos^-4` cannot overflow at grazing normals (where D diverges like
+    /// `exp(-g ln(1 + tan^2 / ((g-1) alpha^2))) / (pi alpha^2 cos^4)`: the power by one
+    /// exponential, divided by `cos^4` where neither it nor `cos^4` leaves the normal range
+    /// (`g ln(...) < 700`, `cos^2 > 1e-100`), and otherwise all in log form, `exp(-2 ln cos^2 -
+    /// g ln(...))`, so that `cos^-4` cannot overflow at grazing normals (where D diverges like
     /// `cos^(2g-4)` for g < 2).
     fn d(&self, wm: Vec3) -> f64 {
         if let Some(b) = &self.limit {
@@ -380,9 +382,15 @@ impl Ndf for StudentT {
         let Some((u2, sin2)) = cos2_sin2(wm) else {
             return 0.0;
         };
+        let inv_u2 = 1.0 / u2;
         // ln of the rounded 1 + tan^2/((g-1) alpha^2) costs a relative g * 1e-16 in D: as
         // good as log1p, at a fraction of its time, for gamma <= 1e3 (`Self::ln_1p`).
-        self.d_scale * (-2.0 * u2.ln() - self.gamma * self.ln_1p(sin2 / u2 * self.inv_a2g1)).exp()
+        let e = self.gamma * self.ln_1p(sin2 * inv_u2 * self.inv_a2g1);
+        if e < 700.0 && u2 > 1e-100 {
+            self.d_scale * (-e).exp() * (inv_u2 * inv_u2)
+        } else {
+            self.d_scale * (-2.0 * u2.ln() - e).exp()
+        }
     }
 
     /// Closed form with the regularised incomplete beta function (theory section 3).
