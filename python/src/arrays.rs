@@ -63,25 +63,38 @@ pub fn dir(flat: &[f64], k: usize) -> Vec3 {
     Vec3::new(flat[3 * k], flat[3 * k + 1], flat[3 * k + 2])
 }
 
+/// True for a direction (three coordinates) that is not a unit vector within
+/// [`UNIT_TOLERANCE`] (NaN included).
+#[inline]
+fn not_unit(c: &[f64]) -> bool {
+    let norm = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+    norm.is_nan() || (norm - 1.0).abs() > UNIT_TOLERANCE
+}
+
 /// The first direction of `flat` that is not a unit vector, as a `ValueError` naming `name`
-/// and the row (run with the GIL released).
+/// and the row (run with the GIL released). Rows are checked [`ROWS_PER_TASK`] at a time,
+/// each block by a branch-free pass, and only a block that fails is searched for its row.
 pub fn check_unit(flat: &[f64], name: &str) -> PyResult<()> {
-    let bad = flat.par_chunks(3).position_first(|c| {
-        let norm = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
-        norm.is_nan() || (norm - 1.0).abs() > UNIT_TOLERANCE
-    });
-    match bad {
-        None => Ok(()),
-        Some(k) => {
-            let c = &flat[3 * k..3 * k + 3];
-            let norm = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
-            Err(PyValueError::new_err(format!(
-                "{name}[{k}] = [{}, {}, {}] is not a unit vector (norm {norm}); directions \
-                 must have |norm - 1| <= {UNIT_TOLERANCE:e}",
-                c[0], c[1], c[2]
-            )))
-        }
-    }
+    let block = 3 * ROWS_PER_TASK;
+    let bad_block = flat
+        .par_chunks(block)
+        .position_first(|rows| rows.chunks_exact(3).fold(false, |bad, c| bad | not_unit(c)));
+    let Some(b) = bad_block else {
+        return Ok(());
+    };
+    let start = b * ROWS_PER_TASK;
+    let k = start
+        + flat[3 * start..]
+            .chunks_exact(3)
+            .position(not_unit)
+            .expect("a block that failed has a bad row");
+    let c = &flat[3 * k..3 * k + 3];
+    let norm = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+    Err(PyValueError::new_err(format!(
+        "{name}[{k}] = [{}, {}, {}] is not a unit vector (norm {norm}); directions must have \
+         |norm - 1| <= {UNIT_TOLERANCE:e}",
+        c[0], c[1], c[2]
+    )))
 }
 
 /// Two batches paired row by row: equal shapes, or one a single direction paired with every

@@ -4,9 +4,8 @@
 
 use pyo3::prelude::*;
 use rayon::prelude::*;
-use stfit_core::Vec3;
 use stfit_core::bsdf::{AnalyticBsdf, Bsdf, Masking, RoughDielectric};
-use stfit_core::ndf::AnyNdf;
+use stfit_core::ndf::{AnyNdf, Ndf, WithNdf};
 
 use crate::arrays::{
     Dirs, Pairing, ROWS_PER_TASK, check_unit, dir, flags, map_rows, values, vectors,
@@ -22,12 +21,50 @@ pub fn masking(name: &str) -> PyResult<Masking> {
 #[pyclass(name = "RoughDielectric", module = "stfit", frozen)]
 pub struct PyRoughDielectric(RoughDielectric<AnyNdf>);
 
-/// `f(bsdf, wi, wo)` over paired batches, with the GIL released.
+/// What [`binary`] computes for each pair.
+#[derive(Clone, Copy)]
+enum PairValue {
+    /// `f(wi, wo) |wo.z|`.
+    FCos,
+    /// The density of `sample`.
+    Density,
+}
+
+/// One [`PairValue`] for every pair of a batch, in a loop compiled for the concrete NDF
+/// ([`AnyNdf::with`]).
+struct PairLoop<'a> {
+    bsdf: &'a RoughDielectric<AnyNdf>,
+    value: PairValue,
+    pairing: &'a Pairing,
+    wi: &'a [f64],
+    wo: &'a [f64],
+}
+
+impl WithNdf for PairLoop<'_> {
+    type Output = Vec<f64>;
+
+    fn run<N: Ndf>(self, ndf: N) -> Vec<f64> {
+        let bsdf = self.bsdf.with_ndf(ndf);
+        let pair = |k| self.pairing.pair(self.wi, self.wo, k);
+        match self.value {
+            PairValue::FCos => map_rows(self.pairing.n, |k| {
+                let (i, o) = pair(k);
+                bsdf.f_cos(i, o)
+            }),
+            PairValue::Density => map_rows(self.pairing.n, |k| {
+                let (i, o) = pair(k);
+                bsdf.density(i, o)
+            }),
+        }
+    }
+}
+
+/// `value` over paired batches, with the GIL released.
 fn binary<'py>(
     bsdf: &RoughDielectric<AnyNdf>,
     wi: &Bound<'py, PyAny>,
     wo: &Bound<'py, PyAny>,
-    f: fn(&RoughDielectric<AnyNdf>, Vec3, Vec3) -> f64,
+    value: PairValue,
 ) -> PyResult<Bound<'py, PyAny>> {
     let py = wi.py();
     let (wi, wo) = (Dirs::new(wi, "wi")?, Dirs::new(wo, "wo")?);
@@ -36,9 +73,12 @@ fn binary<'py>(
     let out = py.detach(|| {
         check_unit(a, "wi")?;
         check_unit(b, "wo")?;
-        Ok::<_, PyErr>(map_rows(pairing.n, |k| {
-            let (i, o) = pairing.pair(a, b, k);
-            f(bsdf, i, o)
+        Ok::<_, PyErr>(bsdf.ndf().with(PairLoop {
+            bsdf,
+            value,
+            pairing: &pairing,
+            wi: a,
+            wo: b,
         }))
     })?;
     values(py, out, &pairing.shape)
@@ -78,7 +118,7 @@ impl PyRoughDielectric {
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        binary(&self.0, wi, wo, |b, i, o| b.f_cos(i, o))
+        binary(&self.0, wi, wo, PairValue::FCos)
     }
 
     /// The solid-angle density with which `sample` returns `wo`.
@@ -87,7 +127,7 @@ impl PyRoughDielectric {
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        binary(&self.0, wi, wo, |b, i, o| b.density(i, o))
+        binary(&self.0, wi, wo, PairValue::Density)
     }
 
     /// One outgoing direction per incident direction `wi`.
