@@ -66,6 +66,9 @@ pub struct StudentT {
     part1: Gamma<f64>,
     /// gamma > 1e3: `ln(1 + x)` by `log1p`, whose rounding is not multiplied by gamma.
     exact_log: bool,
+    /// gamma itself for an integer gamma up to [`StudentT::MAX_POWER`]: the powers of D and
+    /// of the Student t pdf are then integer powers (and a square root), not `exp(g ln ...)`.
+    int_gamma: Option<i32>,
     /// The Beckmann limit, for gamma above [`StudentT::BECKMANN_LIMIT`].
     limit: Option<Beckmann>,
 }
@@ -99,6 +102,11 @@ impl StudentT {
     /// Lambda by less than 1e-6 for `cot / alpha <= 4`), while the incomplete-beta continued
     /// fraction of Lambda stops converging in its iteration cap from about 1e8.
     pub const BECKMANN_LIMIT: f64 = 1e8;
+
+    /// Integer shapes up to this one take D's power `(1 + x)^-g` and the t pdf's
+    /// `(1 + q)^(1/2 - g)` by repeated squaring (a relative error of a few ulps times
+    /// `log2 g`) rather than by a logarithm and an exponential.
+    pub const MAX_POWER: i32 = 16;
 
     /// A Student-T NDF with roughness `alpha` and shape `gamma` in their supported ranges
     /// ([`check_alpha`], [`check_gamma`]; typed errors otherwise).
@@ -135,6 +143,8 @@ impl StudentT {
             mix: Gamma::new(g1, 1.0).map_err(|_| param("gamma", gamma))?,
             part1: Gamma::new(boosted, 1.0).map_err(|_| param("gamma", gamma))?,
             exact_log: gamma > 1e3,
+            int_gamma: (gamma.fract() == 0.0 && gamma <= f64::from(Self::MAX_POWER))
+                .then_some(gamma as i32),
             limit: if gamma > Self::BECKMANN_LIMIT {
                 Some(Beckmann::new(alpha)?)
             } else {
@@ -180,9 +190,13 @@ impl StudentT {
         // The power is only exponentiated: ln of the rounded 1 + q (absolute error 1e-16, so
         // a relative (nu + 1)/2 * 1e-16 in f) is as good as log1p here, and several times
         // faster in glibc.
-        let f = self.t_norm * (-0.5 * (nu + 1.0) * self.ln_1p(q)).exp();
         let a = 0.5 * nu;
         let x = 1.0 / (1.0 + q);
+        // f = t_norm (1 + q)^-(g - 1/2) = t_norm x^(g - 1) sqrt(x).
+        let f = match self.int_gamma {
+            Some(g) => self.t_norm * int_pow(x, g - 1) * x.sqrt(),
+            None => self.t_norm * (-0.5 * (nu + 1.0) * self.ln_1p(q)).exp(),
+        };
         // The continued fraction of I_(1-x)(1/2, a) terminates after `a - 1` steps when
         // `a = g - 1` is an integer: prefer it for gamma = 2 and 3 where x >= 1/2 (there
         // I_x(a, 1/2) > 0.1, so `1/2 - ...` loses at most one digit).
@@ -210,6 +224,21 @@ impl StudentT {
             (x / (1.0 + k)).sqrt()
         }
     }
+}
+
+/// `x^n` for `1 <= n <= StudentT::MAX_POWER` by binary exponentiation (at most 4 squarings),
+/// inline: `f64::powi` is a call into the compiler's runtime library.
+#[inline]
+fn int_pow(x: f64, n: i32) -> f64 {
+    let (mut result, mut base, mut n) = (1.0, x, n);
+    while n > 0 {
+        if n & 1 == 1 {
+            result *= base;
+        }
+        base *= base;
+        n >>= 1;
+    }
+    result
 }
 
 /// Continued fraction of the regularised incomplete beta function (the one of Numerical
@@ -370,11 +399,12 @@ impl<'a> BetaCf<'a> {
 }
 
 impl Ndf for StudentT {
-    /// `exp(-g ln(1 + tan^2 / ((g-1) alpha^2))) / (pi alpha^2 cos^4)`: the power by one
-    /// exponential, divided by `cos^4` where neither it nor `cos^4` leaves the normal range
-    /// (`g ln(...) < 700`, `cos^2 > 1e-100`), and otherwise all in log form, `exp(-2 ln cos^2 -
-    /// g ln(...))`, so that `cos^-4` cannot overflow at grazing normals (where D diverges like
-    /// `cos^(2g-4)` for g < 2).
+    /// `(1 + tan^2 / ((g-1) alpha^2))^-g / (pi alpha^2 cos^4)`: the power by one exponential
+    /// (by [`int_pow`] for integer shapes up to [`StudentT::MAX_POWER`]), divided by `cos^4`
+    /// where neither leaves the normal range (`cos^2 > 1e-100` and the power above
+    /// `e^-700`), and otherwise all in log form, `exp(-2 ln cos^2 - g ln(...))`, so that
+    /// `cos^-4` cannot overflow at grazing normals (where D diverges like `cos^(2g-4)` for
+    /// g < 2).
     fn d(&self, wm: Vec3) -> f64 {
         if let Some(b) = &self.limit {
             return b.d(wm);
@@ -383,14 +413,24 @@ impl Ndf for StudentT {
             return 0.0;
         };
         let inv_u2 = 1.0 / u2;
+        let x = sin2 * inv_u2 * self.inv_a2g1;
+        if u2 > 1e-100 {
+            // (1 + x)^-g by int_pow for integer shapes; `e` below 700 keeps exp(-e) normal.
+            if let Some(g) = self.int_gamma {
+                let p = int_pow(1.0 + x, g);
+                if p < 1e300 {
+                    return self.d_scale * (inv_u2 * inv_u2) / p;
+                }
+            } else {
+                let e = self.gamma * self.ln_1p(x);
+                if e < 700.0 {
+                    return self.d_scale * (-e).exp() * (inv_u2 * inv_u2);
+                }
+            }
+        }
         // ln of the rounded 1 + tan^2/((g-1) alpha^2) costs a relative g * 1e-16 in D: as
         // good as log1p, at a fraction of its time, for gamma <= 1e3 (`Self::ln_1p`).
-        let e = self.gamma * self.ln_1p(sin2 * inv_u2 * self.inv_a2g1);
-        if e < 700.0 && u2 > 1e-100 {
-            self.d_scale * (-e).exp() * (inv_u2 * inv_u2)
-        } else {
-            self.d_scale * (-2.0 * u2.ln() - e).exp()
-        }
+        self.d_scale * (-2.0 * u2.ln() - self.gamma * self.ln_1p(x)).exp()
     }
 
     /// Closed form with the regularised incomplete beta function (theory section 3).
