@@ -1,7 +1,7 @@
 """Student-T rough dielectric at 10^6 direction pairs: stfit (Rust, GIL released, all cores)
 against the same formula written in vectorised NumPy.
 
-    python python/bench/bench_eval.py [--pairs N] [--repeats R]
+    python python/bench/bench_eval.py [--pairs N] [--repeats R] [--gamma G]
 
 Prints the median wall and CPU time (the process's, over all its threads: the work, which a
 busy machine does not inflate) of each over R runs, the speed-ups, and the largest relative
@@ -144,10 +144,15 @@ def median_time(f, repeats):
 
 
 def main():
+    global GAMMA
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pairs", type=int, default=1_000_000)
     parser.add_argument("--repeats", type=int, default=11)
+    parser.add_argument("--gamma", type=float, default=GAMMA,
+                        help="Student-T shape (default 3; integer shapes up to 16 take integer "
+                        "powers in stfit, others a logarithm and an exponential)")
     args = parser.parse_args()
+    GAMMA = args.gamma
     wi, wo = pairs(args.pairs)
     glass = stfit.RoughDielectric(stfit.StudentT(ALPHA, GAMMA), ETA, masking="separable")
     ours, theirs = glass.eval(wi, wo), f_cos_numpy(wi, wo)
@@ -155,7 +160,7 @@ def main():
     diff = np.max(np.abs(ours - theirs) / scale)
     t_rust = median_time(lambda: glass.eval(wi, wo), args.repeats)
     t_numpy = median_time(lambda: f_cos_numpy(wi, wo), max(3, args.repeats // 3))
-    print(f"pairs                 {args.pairs}")
+    print(f"pairs                 {args.pairs} (alpha {ALPHA}, gamma {GAMMA}, eta {ETA})")
     print(f"cores                 {os.cpu_count()}")
     print(f"stfit eval (median)   {t_rust[0] * 1e3:.1f} ms wall, {t_rust[1] * 1e3:.1f} ms CPU")
     print(f"numpy eval (median)   {t_numpy[0] * 1e3:.1f} ms wall, {t_numpy[1] * 1e3:.1f} ms CPU")

@@ -64,11 +64,13 @@ pub fn dir(flat: &[f64], k: usize) -> Vec3 {
 }
 
 /// True for a direction (three coordinates) that is not a unit vector within
-/// [`UNIT_TOLERANCE`] (NaN included).
+/// [`UNIT_TOLERANCE`] (NaN included), by its squared norm against the squared bounds.
 #[inline]
 fn not_unit(c: &[f64]) -> bool {
-    let norm = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
-    norm.is_nan() || (norm - 1.0).abs() > UNIT_TOLERANCE
+    const LO: f64 = (1.0 - UNIT_TOLERANCE) * (1.0 - UNIT_TOLERANCE);
+    const HI: f64 = (1.0 + UNIT_TOLERANCE) * (1.0 + UNIT_TOLERANCE);
+    let n2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+    !(LO..=HI).contains(&n2)
 }
 
 /// The first direction of `flat` that is not a unit vector, as a `ValueError` naming `name`
