@@ -518,6 +518,28 @@ impl Ndf for StudentT {
 mod tests {
     use super::*;
 
+    /// D of integer shapes (integer powers) and of the others (one exponential) agree with
+    /// the log form `exp(-2 ln cos^2 - g ln1p(x)) / (pi alpha^2)` from the pole to grazing
+    /// normals, where the log form takes over (both below 1e-290 where D becomes subnormal).
+    #[test]
+    fn d_power_forms_match_the_log_form() {
+        for gamma in [2.0, 3.0, 16.0, 17.0, 2.8, 1.6] {
+            let st = StudentT::new(0.45, gamma).unwrap();
+            for k in 0..200 {
+                let theta = 0.5 * PI * (1.0 - (-(k as f64) * 0.2).exp());
+                let wm = Vec3::new(theta.sin(), 0.0, theta.cos());
+                let (u2, sin2) = (wm.z * wm.z, wm.x * wm.x);
+                let x = sin2 / u2 / ((gamma - 1.0) * 0.45 * 0.45);
+                let r = (-2.0 * u2.ln() - gamma * x.ln_1p()).exp() / (PI * 0.45 * 0.45);
+                let d = st.d(wm);
+                assert!(
+                    (d - r).abs() <= 1e-13 * r || (d < 1e-290 && r < 1e-290),
+                    "gamma {gamma}, theta {theta}: D {d}, log form {r}"
+                );
+            }
+        }
+    }
+
     /// Lambda against mpmath (120 digits: the closed form by mpmath's `betainc`, checked
     /// against direct quadrature of `integral_k^inf (t - k) f_nu(t) dt` to 1e-7) for alpha
     /// 0.45, from grazing to near-normal directions and for shapes on both sides of the
