@@ -91,6 +91,7 @@ impl Ndf for Ggx {
     /// azimuth and an independent uniform `s = x1^2 + x2^2`, which places the point's height
     /// `z = 1 - (1 + w_s.z) s` uniformly on the cap (Marsaglia 1972); its horizontal part is
     /// `(x1, x2) sqrt((1 - z^2) / s)`.
+    #[inline]
     fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3 {
         let (x1, x2, s) = loop {
             let x1 = 2.0 * rng.random::<f64>() - 1.0;
