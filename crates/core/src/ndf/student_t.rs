@@ -46,9 +46,6 @@ pub struct StudentT {
     /// `1 / nu` and `1 / (nu - 1)`.
     inv_nu: f64,
     inv_nu_m1: f64,
-    /// `nu / 2` is 1 or 2 (gamma 2 or 3): the continued fraction of `I_(1-x)(1/2, nu/2)`
-    /// terminates.
-    terminating_cf: bool,
     /// Student t pdf at 0: `Gamma((nu+1)/2) / (sqrt(nu pi) Gamma(nu/2)) = 1 / (sqrt(nu) B(nu/2, 1/2))`.
     t_norm: f64,
     /// `alpha sqrt(g-1)`: `alpha_m = alpha sqrt(g-1) / sqrt(m)` in the Gamma superposition.
@@ -134,7 +131,6 @@ impl StudentT {
             nu,
             inv_nu: 1.0 / nu,
             inv_nu_m1: 1.0 / (nu - 1.0),
-            terminating_cf: g1 == 1.0 || g1 == 2.0,
             cf_lower: CfCoefficients::new(0.5 * nu, 0.5),
             cf_upper: CfCoefficients::new(0.5, 0.5 * nu),
             t_norm,
@@ -187,12 +183,11 @@ impl StudentT {
         }
         let nu = self.nu;
         let q = k * k * self.inv_nu;
-        // The power is only exponentiated: ln of the rounded 1 + q (absolute error 1e-16, so
-        // a relative (nu + 1)/2 * 1e-16 in f) is as good as log1p here, and several times
-        // faster in glibc.
         let a = 0.5 * nu;
         let x = 1.0 / (1.0 + q);
-        // f = t_norm (1 + q)^-(g - 1/2) = t_norm x^(g - 1) sqrt(x).
+        // f = t_norm (1 + q)^-(g - 1/2) = t_norm x^(g - 1) sqrt(x). Otherwise the power is
+        // only exponentiated: ln of the rounded 1 + q (absolute error 1e-16, so a relative
+        // (nu + 1)/2 * 1e-16 in f) is as good as log1p here, and several times faster in glibc.
         let f = match self.int_gamma {
             Some(g) => self.t_norm * int_pow(x, g - 1) * x.sqrt(),
             None => self.t_norm * (-0.5 * (nu + 1.0) * self.ln_1p(q)).exp(),
@@ -200,7 +195,8 @@ impl StudentT {
         // The continued fraction of I_(1-x)(1/2, a) terminates after `a - 1` steps when
         // `a = g - 1` is an integer: prefer it for gamma = 2 and 3 where x >= 1/2 (there
         // I_x(a, 1/2) > 0.1, so `1/2 - ...` loses at most one digit).
-        let upper = if self.terminating_cf && x >= 0.5 {
+        let terminating = matches!(self.int_gamma, Some(2 | 3));
+        let upper = if terminating && x >= 0.5 {
             0.5 - f * k * beta_cf_terminating(&self.cf_upper, q * x)
         } else if x < (a + 1.0) / (a + 2.5) {
             f * k * beta_cf(&self.cf_lower, x) * self.inv_nu
