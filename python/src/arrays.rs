@@ -11,7 +11,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat};
 use rayon::prelude::*;
 use stfit_core::Vec3;
-use stfit_fit::pairs::UNIT_TOLERANCE;
+use stfit_fit::pairs::{UNIT_TOLERANCE, is_unit_norm};
 
 /// Rows per parallel task (and per random-number stream of the samplers): batches shorter
 /// than this run on the calling thread.
@@ -63,14 +63,11 @@ pub fn dir(flat: &[f64], k: usize) -> Vec3 {
     Vec3::new(flat[3 * k], flat[3 * k + 1], flat[3 * k + 2])
 }
 
-/// True for a direction (three coordinates) that is not a unit vector within
-/// [`UNIT_TOLERANCE`] (NaN included), by its squared norm against the squared bounds.
+/// True for a direction (three coordinates) that is not a unit vector ([`is_unit_norm`]; NaN
+/// included).
 #[inline]
 fn not_unit(c: &[f64]) -> bool {
-    const LO: f64 = (1.0 - UNIT_TOLERANCE) * (1.0 - UNIT_TOLERANCE);
-    const HI: f64 = (1.0 + UNIT_TOLERANCE) * (1.0 + UNIT_TOLERANCE);
-    let n2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
-    !(LO..=HI).contains(&n2)
+    !is_unit_norm((c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
 }
 
 /// The first direction of `flat` that is not a unit vector, as a `ValueError` naming `name`

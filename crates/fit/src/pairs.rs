@@ -23,6 +23,13 @@ pub const STDERR_COLUMN: &str = "f_cos_stderr";
 /// Largest accepted `| |w| - 1 |`: directions are checked, never silently normalised.
 pub const UNIT_TOLERANCE: f64 = 1e-6;
 
+/// True for the norm of a unit vector: `|norm - 1| <= UNIT_TOLERANCE` (false for NaN). The one
+/// test of the library's unit-direction precondition, for files and for arrays.
+#[inline]
+pub fn is_unit_norm(norm: f64) -> bool {
+    (norm - 1.0).abs() <= UNIT_TOLERANCE
+}
+
 /// A table of direction pairs: its header and rows as read (trimmed fields), and the pairs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PairTable {
@@ -117,7 +124,7 @@ pub fn read_pairs(source: &Path, bytes: &[u8]) -> Result<PairTable, LoadError> {
         }
         let unit = |w: Vec3, name: &str| {
             let norm = w.norm();
-            if (norm - 1.0).abs() > UNIT_TOLERANCE {
+            if !is_unit_norm(norm) {
                 Err(err(
                     Some(line),
                     Some(name),
