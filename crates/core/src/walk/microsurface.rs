@@ -168,16 +168,18 @@ impl<N: Ndf, F: Facet> Walker for Microsurface<N, F> {
             };
             let flight: f64 = rng.sample(Exp1);
             if ws.z > 0.0 {
-                // Escape probability exp(-depth Lambda) = G1(w, h).
-                let next = depth - flight / lambda;
-                if next.is_nan() || next <= 0.0 {
+                // Escape probability exp(-depth Lambda) = G1(w, h): the walker escapes unless
+                // depth Lambda > flight (NaN at depth 0 with Lambda infinite escapes), a test
+                // that needs no division, so the branch does not wait for it. Where the two
+                // differ by rounding the walker stays, at the top (depth 0) at the least.
+                if !(depth * lambda > flight) {
                     return WalkEnd::Escaped(WalkSample {
                         wo: w,
                         weight,
                         order,
                     });
                 }
-                depth = next;
+                depth = (depth - flight / lambda).max(0.0);
             } else {
                 // Downward (Lambda <= -1) the walker always hits; at the horizon it hits in place.
                 depth -= flight / lambda;
