@@ -22,7 +22,7 @@ use std::hint::black_box;
 use stfit_core::Vec3;
 use stfit_core::bsdf::Bsdf;
 use stfit_core::math::{radians, spherical_direction};
-use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
+use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT, TabulatedStudentT};
 use stfit_core::walk::{DielectricFacet, Estimator, Microsurface};
 
 /// Runs row `op` of NDF `ndf` `n` times; false if `op` is not one of its rows.
@@ -70,7 +70,7 @@ fn run_ndf<N: Ndf>(ndf: N, op: &str, n: u64) -> bool {
     true
 }
 
-const ROWS: [&str; 15] = [
+const ROWS: [&str; 16] = [
     "beckmann/sample_visible",
     "beckmann/lambda",
     "ggx/sample_visible",
@@ -79,6 +79,7 @@ const ROWS: [&str; 15] = [
     "student_t/lambda",
     "student_t_g2.8/sample_visible",
     "student_t_g2.8/lambda",
+    "tabulated_student_t_g2.8/lambda",
     "walk/beckmann/sample",
     "walk/beckmann/eval",
     "walk/ggx/sample",
@@ -108,6 +109,11 @@ fn main() {
         "ggx" => run_ndf(Ggx::new(0.45).unwrap(), &op, n),
         "student_t" | "student-t" => run_ndf(StudentT::new(0.45, 3.0).unwrap(), &op, n),
         "student_t_g2.8" => run_ndf(StudentT::new(0.45, 2.8).unwrap(), &op, n),
+        "tabulated_student_t_g2.8" => run_ndf(
+            TabulatedStudentT::new(StudentT::new(0.45, 2.8).unwrap()),
+            &op,
+            n,
+        ),
         _ => false,
     };
     if !ok {

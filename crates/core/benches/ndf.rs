@@ -1,5 +1,6 @@
 //! Throughput of visible-normal sampling and Smith Lambda for each NDF (alpha 0.45, gamma 3,
 //! incident theta 60 degrees, one thread). One call per iteration: M/s = 1000 / (ns/iter).
+//! The `build` rows time the construction of a [`TabulatedStudentT`].
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use rand::SeedableRng;
@@ -7,7 +8,7 @@ use rand_pcg::Pcg64;
 use std::hint::black_box;
 use stfit_core::Vec3;
 use stfit_core::math::{radians, spherical_direction};
-use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
+use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT, TabulatedStudentT};
 
 fn bench_ndf<N: Ndf>(c: &mut Criterion, name: &str, ndf: N) {
     let w: Vec3 = spherical_direction(radians(60.0), 0.3);
@@ -26,6 +27,15 @@ fn ndfs(c: &mut Criterion) {
     bench_ndf(c, "student_t", StudentT::new(0.45, 3.0).unwrap());
     // A non-integer gamma: the incomplete-beta continued fraction does not terminate.
     bench_ndf(c, "student_t_g2.8", StudentT::new(0.45, 2.8).unwrap());
+    // Lambda's fractions interpolated, for batches; and what building the table costs.
+    let st = StudentT::new(0.45, 2.8).unwrap();
+    bench_ndf(c, "tabulated_student_t_g2.8", TabulatedStudentT::new(st));
+    for gamma in [2.8, 1e3] {
+        let st = StudentT::new(0.45, gamma).unwrap();
+        c.bench_function(&format!("tabulated_student_t_g{gamma}/build"), |b| {
+            b.iter(|| TabulatedStudentT::new(black_box(st)))
+        });
+    }
 }
 
 criterion_group!(benches, ndfs);

@@ -15,7 +15,7 @@ mod student_t;
 pub use any::{AnyNdf, WithNdf};
 pub use beckmann::Beckmann;
 pub use ggx::Ggx;
-pub use student_t::StudentT;
+pub use student_t::{StudentT, TabulatedStudentT};
 
 use crate::math::Vec3;
 use rand::Rng;

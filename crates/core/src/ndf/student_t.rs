@@ -10,6 +10,9 @@ use rand::Rng;
 use rand_distr::{Distribution, Gamma};
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
 
+mod table;
+pub use table::TabulatedStudentT;
+
 /// Student-T: `D(u) = (g-1)^g alpha^(2g-2) / (pi u^4 (alpha^2 (g-1) + tan^2 theta)^g)` with
 /// shape `g = gamma > 3/2`. Slopes along one axis are `(alpha/sqrt 2) T_nu`, `nu = 2g - 2`.
 /// `gamma = 2` is GGX; `gamma -> inf` tends to Beckmann with the same alpha, within a relative
@@ -53,6 +56,9 @@ pub struct StudentT {
     /// Weight constant of part 1 of the tilted mixing density (theory section 4):
     /// `W1 = s * w1_scale / (1+k)^(g-3/2)`.
     w1_scale: f64,
+    /// `(a + 1) / (a + 2.5)` with `a = nu/2`: below it `I_x(a, 1/2)` takes the lower
+    /// continued fraction, above it the upper one (`x = nu / (nu + k^2)`).
+    x_switch: f64,
     /// Coefficients of the continued fractions of `I_x(nu/2, 1/2)` and `I_(1-x)(1/2, nu/2)`.
     cf_lower: CfCoefficients,
     cf_upper: CfCoefficients,
@@ -131,6 +137,7 @@ impl StudentT {
             nu,
             inv_nu: 1.0 / nu,
             inv_nu_m1: 1.0 / (nu - 1.0),
+            x_switch: (0.5 * nu + 1.0) / (0.5 * nu + 2.5),
             cf_lower: CfCoefficients::new(0.5 * nu, 0.5),
             cf_upper: CfCoefficients::new(0.5, 0.5 * nu),
             t_norm,
@@ -174,17 +181,18 @@ impl StudentT {
     /// `(nu + k^2)/(nu - 1) f_nu(k) - k S_nu(k)` with the pdf `f_nu` and upper tail `S_nu`,
     /// so that `Lambda = (s/mu) excess(mu/s)` with `s = alpha/sqrt 2` (theory section 3).
     /// `S_nu(k) = I_x(nu/2, 1/2) / 2` with `x = nu/(nu+k^2)` by the incomplete-beta
-    /// continued fraction, whose prefactor `x^(nu/2) (1-x)^(1/2) / B` equals `f_nu(k) k`, so
-    /// only one power is taken.
+    /// continued fraction (evaluated by `fractions`), whose prefactor
+    /// `x^(nu/2) (1-x)^(1/2) / B` equals `f_nu(k) k`, so only one power is taken.
     #[inline]
-    fn excess(&self, k: f64) -> f64 {
+    fn excess_by<F: BetaFractions>(&self, k: f64, fractions: &F) -> f64 {
         if k > 1e100 {
             return 0.0;
         }
         let nu = self.nu;
         let q = k * k * self.inv_nu;
-        let a = 0.5 * nu;
         let x = 1.0 / (1.0 + q);
+        // 1 - x without cancellation.
+        let u = q * x;
         // f = t_norm (1 + q)^-(g - 1/2) = t_norm x^(g - 1) sqrt(x). Otherwise the power is
         // only exponentiated: ln of the rounded 1 + q (absolute error 1e-16, so a relative
         // (nu + 1)/2 * 1e-16 in f) is as good as log1p here, and several times faster in glibc.
@@ -197,13 +205,44 @@ impl StudentT {
         // I_x(a, 1/2) > 0.1, so `1/2 - ...` loses at most one digit).
         let terminating = matches!(self.int_gamma, Some(2 | 3));
         let upper = if terminating && x >= 0.5 {
-            0.5 - f * k * beta_cf_terminating(&self.cf_upper, q * x)
-        } else if x < (a + 1.0) / (a + 2.5) {
-            f * k * beta_cf(&self.cf_lower, x) * self.inv_nu
+            0.5 - f * k * beta_cf_terminating(&self.cf_upper, u)
+        } else if x < self.x_switch {
+            f * k * fractions.lower(x, u) * self.inv_nu
         } else {
-            0.5 - f * k * beta_cf(&self.cf_upper, q * x)
+            0.5 - f * k * fractions.upper(u)
         };
         (nu + k * k) * self.inv_nu_m1 * f - k * upper
+    }
+
+    /// Lambda of `w` with the continued fractions evaluated by `fractions`.
+    #[inline]
+    fn lambda_by<F: BetaFractions>(&self, w: Vec3, fractions: &F) -> f64 {
+        if let Some(b) = &self.limit {
+            return b.lambda(w);
+        }
+        lambda_on_sphere(w, |c, s2| {
+            // Lambda = (s/mu) excess(mu/s) = excess(k) / k with k = c / (s sin), k and 1/k
+            // from one division.
+            let ss = self.alpha * FRAC_1_SQRT_2 * s2.sqrt();
+            let d = 1.0 / (c * ss);
+            self.excess_by(c * c * d, fractions) * (ss * ss * d)
+        })
+    }
+
+    /// sigma of `w` with the continued fractions evaluated by `fractions`.
+    #[inline]
+    fn sigma_by<F: BetaFractions>(&self, w: Vec3, fractions: &F) -> f64 {
+        if let Some(b) = &self.limit {
+            return b.sigma(w);
+        }
+        let (c, sin) = crate::math::cos_sin_theta(w);
+        if sin == 0.0 {
+            return c.max(0.0);
+        }
+        let s = self.alpha * FRAC_1_SQRT_2;
+        let k = c.abs() / (sin * s);
+        let tail = sin * s * self.excess_by(k, fractions);
+        if c > 0.0 { c + tail } else { tail }
     }
 
     /// Draws `sqrt(m)` from part 1 of the tilted mixing density: `m ~ Gamma(g - 3/2,
@@ -219,6 +258,30 @@ impl StudentT {
         } else {
             (x / (1.0 + k)).sqrt()
         }
+    }
+}
+
+/// The two incomplete-beta continued fractions of Lambda, `beta_cf` of `(nu/2, 1/2)` and of
+/// `(1/2, nu/2)`: evaluated exactly by the [`StudentT`] itself, or interpolated by a
+/// [`table::FractionTable`].
+trait BetaFractions {
+    /// The fraction of `I_x(nu/2, 1/2)` at `x` below the switch point, given `u = 1 - x`
+    /// (formed without cancellation).
+    fn lower(&self, x: f64, u: f64) -> f64;
+
+    /// The fraction of `I_u(1/2, nu/2)` at `u = 1 - x`, `x` at or above the switch point.
+    fn upper(&self, u: f64) -> f64;
+}
+
+impl BetaFractions for StudentT {
+    #[inline]
+    fn lower(&self, x: f64, _u: f64) -> f64 {
+        beta_cf(&self.cf_lower, x)
+    }
+
+    #[inline]
+    fn upper(&self, u: f64) -> f64 {
+        beta_cf(&self.cf_upper, u)
     }
 }
 
@@ -431,32 +494,13 @@ impl Ndf for StudentT {
 
     /// Closed form with the regularised incomplete beta function (theory section 3).
     fn lambda(&self, w: Vec3) -> f64 {
-        if let Some(b) = &self.limit {
-            return b.lambda(w);
-        }
-        lambda_on_sphere(w, |c, s2| {
-            // Lambda = (s/mu) excess(mu/s) = excess(k) / k with k = c / (s sin), k and 1/k
-            // from one division.
-            let ss = self.alpha * FRAC_1_SQRT_2 * s2.sqrt();
-            let d = 1.0 / (c * ss);
-            self.excess(c * c * d) * (ss * ss * d)
-        })
+        self.lambda_by(w, self)
     }
 
     /// `c + sin * s * excess(|mu| / s)` above the horizon, `sin * s * excess(|mu| / s)` below,
     /// with `s = alpha / sqrt 2`; no cancellation on either side.
     fn sigma(&self, w: Vec3) -> f64 {
-        if let Some(b) = &self.limit {
-            return b.sigma(w);
-        }
-        let (c, sin) = crate::math::cos_sin_theta(w);
-        if sin == 0.0 {
-            return c.max(0.0);
-        }
-        let s = self.alpha * FRAC_1_SQRT_2;
-        let k = c.abs() / (sin * s);
-        let tail = sin * s * self.excess(k);
-        if c > 0.0 { c + tail } else { tail }
+        self.sigma_by(w, self)
     }
 
     /// Exact, for every gamma > 3/2 and every direction, by the Gamma superposition
@@ -797,15 +841,20 @@ mod tests {
             ),
         ];
         for (gamma, x, z, r) in refs {
-            let l = StudentT::new(0.45, gamma)
-                .unwrap()
-                .lambda(Vec3::new(x, 0.0, z));
-            let err = ((l - r) / r).abs();
-            let tol = if gamma > 1e3 { 3e-12 } else { 1e-13 };
-            assert!(
-                err < tol,
-                "gamma {gamma}, w = ({x}, 0, {z}): Lambda {l}, want {r}"
-            );
+            let st = StudentT::new(0.45, gamma).unwrap();
+            let w = Vec3::new(x, 0.0, z);
+            // The exact fractions, and the interpolated ones of TabulatedStudentT.
+            for (l, form) in [
+                (st.lambda(w), "exact"),
+                (TabulatedStudentT::new(st).lambda(w), "tabulated"),
+            ] {
+                let err = ((l - r) / r).abs();
+                let tol = if gamma > 1e3 { 3e-12 } else { 1e-13 };
+                assert!(
+                    err < tol,
+                    "gamma {gamma}, w = ({x}, 0, {z}), {form}: Lambda {l}, want {r}"
+                );
+            }
         }
     }
 }

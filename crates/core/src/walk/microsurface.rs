@@ -172,7 +172,8 @@ impl<N: Ndf, F: Facet> Walker for Microsurface<N, F> {
                 // depth Lambda > flight (NaN at depth 0 with Lambda infinite escapes), a test
                 // that needs no division, so the branch does not wait for it. Where the two
                 // differ by rounding the walker stays, at the top (depth 0) at the least.
-                if !(depth * lambda > flight) {
+                let hits = depth * lambda > flight;
+                if !hits {
                     return WalkEnd::Escaped(WalkSample {
                         wo: w,
                         weight,
