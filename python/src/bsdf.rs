@@ -4,8 +4,9 @@
 
 use pyo3::prelude::*;
 use rayon::prelude::*;
+use std::sync::OnceLock;
 use stfit_core::bsdf::{AnalyticBsdf, Bsdf, Masking, RoughDielectric};
-use stfit_core::ndf::{AnyNdf, Ndf, WithNdf};
+use stfit_core::ndf::{AnyNdf, Ndf, TabulatedStudentT, WithNdf};
 
 use crate::arrays::{
     Dirs, Pairing, ROWS_PER_TASK, check_unit, dir, flags, map_rows, values, vectors,
@@ -18,8 +19,23 @@ pub fn masking(name: &str) -> PyResult<Masking> {
     name.parse().map_err(|e| arg_error("masking", e))
 }
 
+/// The rough dielectric; for a Student-T NDF, `eval` and `pdf` run on its
+/// [`TabulatedStudentT`] (Lambda's continued fractions interpolated, to a few ulps), built on
+/// first use and kept, so that every call, whatever its batch size, gives the same numbers.
 #[pyclass(name = "RoughDielectric", module = "stfit", frozen)]
-pub struct PyRoughDielectric(RoughDielectric<AnyNdf>);
+pub struct PyRoughDielectric(RoughDielectric<AnyNdf>, OnceLock<Option<TabulatedStudentT>>);
+
+impl PyRoughDielectric {
+    /// The NDF that `eval` and `pdf` use: the tabulated form of a Student-T.
+    fn pair_ndf(&self) -> Option<&TabulatedStudentT> {
+        self.1
+            .get_or_init(|| match self.0.ndf() {
+                AnyNdf::StudentT(st) => Some(TabulatedStudentT::new(*st)),
+                _ => None,
+            })
+            .as_ref()
+    }
+}
 
 /// What [`binary`] computes for each pair.
 #[derive(Clone, Copy)]
@@ -61,7 +77,7 @@ impl WithNdf for PairLoop<'_> {
 
 /// `value` over paired batches, with the GIL released.
 fn binary<'py>(
-    bsdf: &RoughDielectric<AnyNdf>,
+    glass: &PyRoughDielectric,
     wi: &Bound<'py, PyAny>,
     wo: &Bound<'py, PyAny>,
     value: PairValue,
@@ -73,13 +89,17 @@ fn binary<'py>(
     let out = py.detach(|| {
         check_unit(a, "wi")?;
         check_unit(b, "wo")?;
-        Ok::<_, PyErr>(bsdf.ndf().with(PairLoop {
-            bsdf,
+        let pairs = PairLoop {
+            bsdf: &glass.0,
             value,
             pairing: &pairing,
             wi: a,
             wo: b,
-        }))
+        };
+        Ok::<_, PyErr>(match glass.pair_ndf() {
+            Some(st) => pairs.run(st.clone()),
+            None => glass.0.ndf().with(pairs),
+        })
     })?;
     values(py, out, &pairing.shape)
 }
@@ -90,7 +110,7 @@ impl PyRoughDielectric {
     #[pyo3(signature = (ndf, eta, masking = "separable"))]
     fn new(ndf: &Bound<'_, PyAny>, eta: f64, masking: &str) -> PyResult<Self> {
         RoughDielectric::new(any_ndf(ndf)?, eta, self::masking(masking)?)
-            .map(Self)
+            .map(|b| Self(b, OnceLock::new()))
             .map_err(value_error)
     }
 
@@ -118,7 +138,7 @@ impl PyRoughDielectric {
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        binary(&self.0, wi, wo, PairValue::FCos)
+        binary(self, wi, wo, PairValue::FCos)
     }
 
     /// The solid-angle density with which `sample` returns `wo`.
@@ -127,7 +147,7 @@ impl PyRoughDielectric {
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        binary(&self.0, wi, wo, PairValue::Density)
+        binary(self, wi, wo, PairValue::Density)
     }
 
     /// One outgoing direction per incident direction `wi`.

@@ -6,7 +6,7 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use rand_pcg::Pcg64;
 use rayon::prelude::*;
-use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, Ndf, StudentT};
+use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, Ndf, StudentT, WithNdf};
 
 use crate::arrays::{Dirs, ROWS_PER_TASK, check_unit, dir, map_rows, values, vectors};
 use crate::errors::value_error;
@@ -17,19 +17,50 @@ pub fn stream(seed: u64, c: usize) -> Pcg64 {
     Pcg64::new((u128::from(seed) << 64) | 0x5851_f42d_4c95_7f2d, c as u128)
 }
 
-/// `f(ndf, w)` over a batch, with the GIL released.
+/// What [`unary`] computes for each direction.
+#[derive(Clone, Copy)]
+enum DirValue {
+    D,
+    Lambda,
+    Sigma,
+    G1,
+}
+
+/// One [`DirValue`] for every direction of a batch, in a loop compiled for the concrete NDF
+/// ([`AnyNdf::with`]).
+struct DirLoop<'a> {
+    value: DirValue,
+    flat: &'a [f64],
+    n: usize,
+}
+
+impl WithNdf for DirLoop<'_> {
+    type Output = Vec<f64>;
+
+    fn run<N: Ndf>(self, ndf: N) -> Vec<f64> {
+        let w = |k| dir(self.flat, k);
+        match self.value {
+            DirValue::D => map_rows(self.n, |k| ndf.d(w(k))),
+            DirValue::Lambda => map_rows(self.n, |k| ndf.lambda(w(k))),
+            DirValue::Sigma => map_rows(self.n, |k| ndf.sigma(w(k))),
+            DirValue::G1 => map_rows(self.n, |k| ndf.g1(w(k))),
+        }
+    }
+}
+
+/// `value` of `ndf` over a batch, with the GIL released.
 fn unary<'py>(
     ndf: AnyNdf,
     w: &Bound<'py, PyAny>,
     name: &str,
-    f: fn(&AnyNdf, stfit_core::Vec3) -> f64,
+    value: DirValue,
 ) -> PyResult<Bound<'py, PyAny>> {
     let py = w.py();
     let w = Dirs::new(w, name)?;
     let (flat, n) = (w.flat()?, w.len());
     let out = py.detach(|| {
         check_unit(flat, name)?;
-        Ok::<_, PyErr>(map_rows(n, |k| f(&ndf, dir(flat, k))))
+        Ok::<_, PyErr>(ndf.with(DirLoop { value, flat, n }))
     })?;
     values(py, out, &w.shape)
 }
@@ -83,22 +114,22 @@ macro_rules! ndf_class {
 
             /// `D(wm)`, normalised by projected area; 0 for `wm.z <= 0`.
             fn d<'py>(&self, wm: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-                unary(self.0.into(), wm, "wm", |n, w| n.d(w))
+                unary(self.0.into(), wm, "wm", DirValue::D)
             }
 
             /// Smith `Lambda(w)` on the whole sphere (`Lambda(-w) = -1 - Lambda(w)`).
             fn lambda_<'py>(&self, w: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-                unary(self.0.into(), w, "w", |n, w| n.lambda(w))
+                unary(self.0.into(), w, "w", DirValue::Lambda)
             }
 
             /// Projected area `sigma(w) = integral max(0, w.wm) D(wm) dwm`.
             fn sigma<'py>(&self, w: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-                unary(self.0.into(), w, "w", |n, w| n.sigma(w))
+                unary(self.0.into(), w, "w", DirValue::Sigma)
             }
 
             /// Smith `G1(w) = 1 / (1 + Lambda(w'))`, `w'` mirrored to the upper hemisphere.
             fn g1<'py>(&self, w: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-                unary(self.0.into(), w, "w", |n, w| n.g1(w))
+                unary(self.0.into(), w, "w", DirValue::G1)
             }
 
             /// Exact visible normals: one draw per direction `w`.
