@@ -53,8 +53,9 @@ struct FractionTable {
 impl FractionTable {
     /// The table of `ndf`'s fractions.
     fn new(ndf: &StudentT) -> Self {
-        let a = 0.5 * ndf.nu;
-        let u_s = 1.5 / (a + 2.5);
+        // 1 - x at the switch point: the end of the lower fraction's range in u and of the
+        // upper fraction's.
+        let u_s = 1.0 - ndf.x_switch;
         // Binades [2^-(j+1), 2^-j] that reach above u_s.
         let mut binades = 0;
         while 0.5f64.powi(binades) > u_s {
