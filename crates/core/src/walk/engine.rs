@@ -30,6 +30,29 @@ pub enum WalkEnd {
     Truncated { weight: f64 },
 }
 
+/// The flight that led to a scattering event, as next-event estimation averages over it.
+///
+/// Next-event estimation adds, for each flight of a walk, the expected contribution of the event
+/// the flight ends in, given the walker's state before it: the probability that the flight hits
+/// the surface, times the phase function there (which depends on the direction, not on the
+/// depth), times the expected probability of leaving toward the target from the depth reached,
+/// given a hit. This has the mean of the value at the depth drawn, without its `1 / Lambda`
+/// tail: a walker travelling steeply upward sees few facets, so its visible-normal density is
+/// large, but it rarely hits; the product of the two is bounded, their draws were not. The
+/// product is formed as one visible-normal density normalised by `sigma / P(hit)`
+/// ([`Hit::sigma_nee`]), which stays finite where both vanish.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Flight {
+    /// The escape from the event's own depth (the null-scattering walk's tentative
+    /// collisions).
+    Sampled,
+    /// Upward (in the frame of the walker's side) from depth `from` with rate `lambda >= 0`:
+    /// the flight hits with probability `1 - exp(-from lambda)`.
+    Up { from: f64, lambda: f64 },
+    /// Downward from depth `from` with rate `rate = -Lambda >= 1`: the flight always hits.
+    Down { from: f64, rate: f64 },
+}
+
 /// A scattering event, as next-event estimation sees it.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Hit {
@@ -40,33 +63,62 @@ pub(crate) struct Hit {
     /// Normaliser of the visible-normal density: `sigma(wi_side)` for the height-field walk,
     /// `pi Dbar` for a tentative collision of the null-scattering walk.
     pub sigma: f64,
-    /// Depth below the top of the surface on the walker's side (`-ln C1`).
+    /// `sigma / P(hit)`, the normaliser that folds the probability that the flight hits into
+    /// the phase function of next-event estimation ([`Flight`]); `sigma` where it always hits,
+    /// and where the estimate is made only at the hits drawn ([`Start::for_targets`]).
+    pub sigma_nee: f64,
+    /// Depth below the top of the surface on the walker's side (`-ln C1`): of the hit, or, for
+    /// a flight that left the surface, a depth drawn from the flight's hits (see [`Flight`]).
     pub depth: f64,
+    /// The flight that ended here.
+    pub flight: Flight,
     /// Throughput of the path up to this event (product of earlier facet weights).
     pub weight: f64,
     /// 1 for the first scattering event.
     pub order: u32,
 }
 
-impl Hit {
-    /// Depths of the hit point below the tops of the upper and of the lower surface.
-    #[inline]
-    pub fn depths(&self) -> (f64, f64) {
-        let other = mirrored_depth(self.depth);
-        if self.inside {
-            (other, self.depth)
-        } else {
-            (self.depth, other)
-        }
-    }
+/// `(1 - exp(-x)) / x` for `x >= 0` (1 at 0, 0 at infinity): the probability that a flight of
+/// optical depth `x` hits, per unit depth.
+#[inline]
+pub(crate) fn hit_fraction(x: f64) -> f64 {
+    if x > 0.0 { -(-x).exp_m1() / x } else { 1.0 }
+}
 
-    /// Depth of the hit point below the top of the lower surface if `inside`, else the upper.
+/// What next-event estimation toward every target shares at one event; a target's expected
+/// escape is [`Target::escape`] of it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Reach {
+    inside: bool,
+    flight: Flight,
+    /// The event's depth on its own side.
+    depth: f64,
+    /// The event's depth below the top of the surface on the other side.
+    mirrored: f64,
+    /// For an upward flight of optical depth `a = from lambda`: `exp(-a)` and
+    /// [`hit_fraction`]`(a)`.
+    misses: f64,
+    fraction: f64,
+}
+
+impl Hit {
+    /// The quantities every target's expected escape from this event needs.
     #[inline]
-    pub fn depth_on(&self, inside: bool) -> f64 {
-        if inside == self.inside {
-            self.depth
-        } else {
-            mirrored_depth(self.depth)
+    pub fn reach(&self) -> Reach {
+        let (misses, fraction) = match self.flight {
+            Flight::Up { from, lambda } => {
+                let a = from * lambda;
+                ((-a).exp(), hit_fraction(a))
+            }
+            _ => (0.0, 1.0),
+        };
+        Reach {
+            inside: self.inside,
+            flight: self.flight,
+            depth: self.depth,
+            mirrored: mirrored_depth(self.depth),
+            misses,
+            fraction,
         }
     }
 }
@@ -78,6 +130,29 @@ pub(crate) struct Start {
     pub wi: Vec3,
     /// `Lambda` of the first flight, into the surface on the light's side (height-field walk).
     pub lambda: f64,
+    /// Whether next-event estimation on upward flights is made only at the hits drawn
+    /// ([`Start::for_targets`]).
+    pub at_hits: bool,
+}
+
+/// Next-event estimation from one walk toward more targets than this is made at the hits
+/// drawn ([`Start::for_targets`]).
+const AVERAGED_TARGETS: usize = 8;
+
+impl Start {
+    /// The same start for next-event estimation toward `targets` directions at once. The
+    /// estimate averaged over an upward flight ([`Flight`]) costs a phase function per target
+    /// even where the flight rarely hits; toward many targets that is several times the walk
+    /// itself. Above [`AVERAGED_TARGETS`], next-event estimation on an upward flight is made
+    /// only when the flight hits, with the phase function itself and the escape still
+    /// averaged over the depths of the hits: the estimate at the depth drawn, Rao-Blackwellised
+    /// in the depth, at its cost.
+    pub fn for_targets(self, targets: usize) -> Self {
+        Self {
+            at_hits: targets > AVERAGED_TARGETS,
+            ..self
+        }
+    }
 }
 
 /// A direction toward which next-event estimation is done, with its Smith Lambda.
@@ -107,18 +182,50 @@ impl Target {
         })
     }
 
-    /// Probability `G1(wo, h) = C1(h)^Lambda(wo)` of leaving toward `wo` from a hit, given the
-    /// hit's depths on the upper and lower surfaces.
+    /// The expected probability of leaving toward `wo` from where the event's flight ends,
+    /// given that it hits: `E[G1(wo, h) | hit]` with `G1(wo, h) = C1(h)^Lambda(wo)` (see
+    /// [`Flight`]). With `t` the depth reached, `G1` is `exp(-t Lambda(wo))` on the walker's
+    /// side and `(1 - exp(-t))^Lambda(wo)` on the other. In closed form on the walker's side:
+    /// - upward from `t0` at rate `L`, with `a = t0 L`, `b = t0 Lambda(wo)` and `phi(x) =
+    ///   (1 - exp(-x)) / x`: `exp(-min(a, b)) phi(|a - b|) / phi(a)` (`exp(-b)` for infinite
+    ///   `L`, where the flight hits in place);
+    /// - downward from `t0` at rate `r`: `exp(-t0 Lambda(wo)) r / (r + Lambda(wo))`.
+    ///
+    /// On the other side: the escape from the event's depth, which the walk draws from the
+    /// flight's hits.
     #[inline]
-    pub fn escape(&self, depth_out: f64, depth_in: f64) -> f64 {
-        let depth = if self.inside { depth_in } else { depth_out };
-        (-depth * self.lambda).exp()
+    pub fn escape(&self, r: &Reach) -> f64 {
+        if self.inside != r.inside {
+            return (-r.mirrored * self.lambda).exp();
+        }
+        match r.flight {
+            Flight::Sampled => (-r.depth * self.lambda).exp(),
+            Flight::Down { from, rate } => {
+                (-from * self.lambda).exp() * rate / (rate + self.lambda)
+            }
+            Flight::Up { from, lambda } => {
+                let (a, b) = (from * lambda, from * self.lambda);
+                let eb = (-b).exp();
+                if !a.is_finite() {
+                    return eb;
+                }
+                let d = (a - b).abs();
+                // exp(-min(a, b)) phi(|a - b|): from the difference of the two exponentials
+                // where that loses at most a few ulps, else without cancellation.
+                let both = if d >= 0.5 {
+                    (eb - r.misses).abs() / d
+                } else {
+                    eb.max(r.misses) * hit_fraction(d)
+                };
+                both / r.fraction
+            }
+        }
     }
 
     /// [`Target::escape`] from a hit.
     #[inline]
     pub fn escape_from(&self, hit: &Hit) -> f64 {
-        (-hit.depth_on(self.inside) * self.lambda).exp()
+        self.escape(&hit.reach())
     }
 }
 
@@ -189,9 +296,12 @@ pub(crate) trait Walker: Sync {
     /// What walks from `wi` (`wi.z != 0`) share.
     fn start(&self, wi: Vec3) -> Start;
 
-    /// One walk, calling `visit` at every event where next-event estimation applies (scattering
-    /// events of order up to the last selected one), before the walker moves on.
-    fn walk<R: Rng + ?Sized>(
+    /// One walk. With `NEE`, `visit` is called for next-event estimation at every event of
+    /// order up to the last selected one, before the walker moves on, and, where the walk
+    /// averages over flights ([`Flight::Up`]), also for a flight that leaves the surface, at a
+    /// depth drawn from the flight's hits; without, it is never called and the walk does no
+    /// work for it.
+    fn walk<const NEE: bool, R: Rng + ?Sized>(
         &self,
         start: &Start,
         rng: &mut R,
@@ -208,7 +318,7 @@ pub(crate) fn random_walk<W: Walker, R: Rng + ?Sized>(w: &W, wi: Vec3, rng: &mut
     if wi.z == 0.0 {
         return WalkEnd::Absorbed;
     }
-    w.walk(&w.start(wi), rng, |_, _| {})
+    w.walk::<false, _>(&w.start(wi), rng, |_, _| {})
 }
 
 /// The exit of one walk from `wi` if its order is selected.
@@ -240,7 +350,7 @@ pub(crate) fn nee_walk<W: Walker, R: Rng + ?Sized>(
     }
     let orders = w.orders();
     let mut sum = 0.0;
-    w.walk(&w.start(wi), rng, |hit, rng| {
+    w.walk::<true, _>(&w.start(wi), rng, |hit, rng| {
         if !orders.includes(hit.order) {
             return;
         }

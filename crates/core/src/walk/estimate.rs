@@ -69,15 +69,15 @@ pub struct AlbedoEstimate {
 /// Running mean and sum of squared deviations of a per-walk quantity (Welford, merged with
 /// Chan et al.'s formula): no cancellation when the spread is tiny next to the mean.
 #[derive(Debug, Clone, Copy, Default)]
-struct Sums {
+pub(crate) struct Sums {
     n: f64,
-    mean: f64,
+    pub(crate) mean: f64,
     m2: f64,
 }
 
 impl Sums {
     #[inline]
-    fn add(&mut self, x: f64) {
+    pub(crate) fn add(&mut self, x: f64) {
         let n = self.n + 1.0;
         self.add_nth(x, n, 1.0 / n);
     }
@@ -103,7 +103,7 @@ impl Sums {
         self.n = n;
     }
 
-    fn estimate(&self) -> Estimate {
+    pub(crate) fn estimate(&self) -> Estimate {
         let var = if self.n > 1.0 {
             self.m2 / (self.n - 1.0)
         } else {
@@ -117,7 +117,7 @@ impl Sums {
 }
 
 /// The random-number stream of one chunk.
-fn chunk_rng(seed: u64, chunk: u64) -> Pcg64 {
+pub(crate) fn chunk_rng(seed: u64, chunk: u64) -> Pcg64 {
     Pcg64::new(
         (u128::from(seed) << 64) | 0xa02b_db6f_7e5c_3c1d,
         u128::from(chunk),
@@ -202,7 +202,29 @@ macro_rules! estimators {
 }
 pub(crate) use estimators;
 
-estimators!(Microsurface<N: Ndf, F: Facet>);
+/// The height-field walk estimates `eval_many` bidirectionally where its facets allow
+/// (see "Bidirectional estimates" in the [module documentation](super)), else from `wi`
+/// alone.
+impl<N: Ndf, F: Facet> Estimator for Microsurface<N, F> {
+    fn eval_many_batched(&self, wi: Vec3, wos: &[Vec3], walks: u64, seed: u64) -> Batched {
+        let fraction = self.walks_from_wo();
+        if fraction > 0.0 && super::bidirectional::supported(self) {
+            super::bidirectional::eval_many(self, wi, wos, walks, fraction, seed)
+        } else {
+            eval_many(self, wi, wos, walks, seed)
+        }
+    }
+
+    fn albedo_with_progress(
+        &self,
+        wi: Vec3,
+        walks: u64,
+        seed: u64,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> AlbedoEstimate {
+        albedo(self, wi, walks, seed, progress)
+    }
+}
 
 /// A seed for the walks from one incident direction: `seed` mixed with the bits of `wi`
 /// (SplitMix64's finaliser), so that every direction has its own random numbers, fixed by the
@@ -340,9 +362,49 @@ fn for_each_incidence(
     }
 }
 
+/// Runs `walks` walks in chunks of [`CHUNK`] (in parallel, each chunk with its own stream from
+/// `seed`), `walk(rng, acc)` adding one walk's contributions to `k` quantities to `acc`, and
+/// returns the running sums of every chunk, in chunk order.
+pub(crate) fn chunk_sums<Wk>(walks: u64, seed: u64, k: usize, walk: Wk) -> Vec<Vec<Sums>>
+where
+    Wk: Fn(&mut Pcg64, &mut [f64]) + Sync,
+{
+    (0..walks.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut rng = chunk_rng(seed, c);
+            let mut sums = vec![Sums::default(); k];
+            let mut acc = vec![0.0f64; k];
+            for i in 0..chunk_len(walks, c) {
+                acc.fill(0.0);
+                walk(&mut rng, &mut acc);
+                // Every quantity's sums advance together: one division per walk, not per
+                // quantity.
+                let n = (i + 1) as f64;
+                let inv_n = 1.0 / n;
+                for (s, &a) in sums.iter_mut().zip(&acc) {
+                    s.add_nth(a, n, inv_n);
+                }
+            }
+            sums
+        })
+        .collect()
+}
+
+/// The sums of all chunks merged, per quantity.
+pub(crate) fn merged(chunks: &[Vec<Sums>], k: usize) -> Vec<Sums> {
+    let mut total = vec![Sums::default(); k];
+    for sums in chunks {
+        for (t, s) in total.iter_mut().zip(sums) {
+            t.merge(s);
+        }
+    }
+    total
+}
+
 /// Estimates `f(wi, wo) |wo.z|` for every `wo` in `wos` from one set of `walks` walks from
-/// `wi`, with next-event estimation toward every `wo` at every hit. Parallel (rayon) and
-/// deterministic for a given `seed`.
+/// `wi`, with next-event estimation toward every `wo` at every event, averaged over each
+/// flight ([`super::engine::Flight`]). Parallel (rayon) and deterministic for a given `seed`.
 pub(crate) fn eval_many<W: Walker>(
     w: &W,
     wi: Vec3,
@@ -352,50 +414,26 @@ pub(crate) fn eval_many<W: Walker>(
 ) -> Batched {
     let targets: Vec<Option<Target>> = wos.iter().map(|&wo| w.target(wo)).collect();
     let k = wos.len();
-    let start = (wi.z != 0.0).then(|| w.start(wi));
-    let n_chunks = walks.div_ceil(CHUNK);
-    let chunk_sums: Vec<Vec<Sums>> = (0..n_chunks)
-        .into_par_iter()
-        .map(|c| {
-            let mut rng = chunk_rng(seed, c);
-            let mut sums = vec![Sums::default(); k];
-            let mut acc = vec![0.0f64; k];
-            for i in 0..chunk_len(walks, c) {
-                acc.fill(0.0);
-                if let Some(start) = &start {
-                    w.walk(start, &mut rng, |hit, rng| {
-                        if !w.orders().includes(hit.order) {
-                            return;
-                        }
-                        let (d_out, d_in) = hit.depths();
-                        for (a, t) in acc.iter_mut().zip(&targets) {
-                            let Some(t) = t else { continue };
-                            let p = w.phase(hit, t.wo, false, rng);
-                            if p > 0.0 {
-                                *a += hit.weight * p * t.escape(d_out, d_in);
-                            }
-                        }
-                    });
-                }
-                // Every target's sums advance together: one division per walk, not per target.
-                let n = (i + 1) as f64;
-                let inv_n = 1.0 / n;
-                for (s, &a) in sums.iter_mut().zip(&acc) {
-                    s.add_nth(a, n, inv_n);
+    let start = (wi.z != 0.0).then(|| w.start(wi).for_targets(k));
+    let chunks = chunk_sums(walks, seed, k, |rng, acc| {
+        let Some(start) = &start else { return };
+        w.walk::<true, _>(start, rng, |hit, rng| {
+            if !w.orders().includes(hit.order) {
+                return;
+            }
+            let reach = hit.reach();
+            for (a, t) in acc.iter_mut().zip(&targets) {
+                let Some(t) = t else { continue };
+                let p = w.phase(hit, t.wo, false, rng);
+                if p > 0.0 {
+                    *a += hit.weight * p * t.escape(&reach);
                 }
             }
-            sums
-        })
-        .collect();
-    let mut total = vec![Sums::default(); k];
-    for sums in &chunk_sums {
-        for (t, s) in total.iter_mut().zip(sums) {
-            t.merge(s);
-        }
-    }
+        });
+    });
     Batched {
-        estimates: total.iter().map(Sums::estimate).collect(),
-        batches: chunk_sums
+        estimates: merged(&chunks, k).iter().map(Sums::estimate).collect(),
+        batches: chunks
             .iter()
             .map(|sums| sums.iter().map(|s| s.mean).collect())
             .collect(),
@@ -431,7 +469,7 @@ pub(crate) fn albedo<W: Walker>(
             for _ in 0..n {
                 let (mut r, mut t) = (0.0, 0.0);
                 let end = match &start {
-                    Some(start) => w.walk(start, &mut rng, |_, _| {}),
+                    Some(start) => w.walk::<false, _>(start, &mut rng, |_, _| {}),
                     None => WalkEnd::Absorbed,
                 };
                 match end {

@@ -50,8 +50,10 @@ pub struct HeightFieldHit<'a, N> {
     ndf: &'a N,
     wi: Vec3,
     inside: bool,
-    /// `sigma(wi_side)`.
+    /// The normaliser of the density: `sigma(wi_side)`, or that over `mass`.
     sigma: f64,
+    /// The total of the density: 1, or the probability that a flight reached the hit.
+    mass: f64,
 }
 
 impl<'a, N: Ndf> HeightFieldHit<'a, N> {
@@ -69,6 +71,29 @@ impl<'a, N: Ndf> HeightFieldHit<'a, N> {
             wi,
             inside,
             sigma,
+            mass: 1.0,
+        }
+    }
+
+    /// The visible normals of a hit that a flight reaches with probability
+    /// `sigma / sigma_per_hit`, scaled by that probability: density `max(0, wi_side . m) D(m)
+    /// / sigma_per_hit`, sampled with that weight. `sigma_per_hit` stays finite where `sigma`
+    /// and the probability both vanish.
+    #[inline]
+    pub(crate) fn reached(
+        ndf: &'a N,
+        wi: Vec3,
+        inside: bool,
+        sigma: f64,
+        sigma_per_hit: f64,
+    ) -> Self {
+        let mass = sigma / sigma_per_hit;
+        Self {
+            ndf,
+            wi,
+            inside,
+            sigma: sigma_per_hit,
+            mass: if mass.is_finite() { mass } else { 0.0 },
         }
     }
 }
@@ -97,7 +122,7 @@ impl<N: Ndf> VisibleNormals for HeightFieldHit<'_, N> {
 
     #[inline]
     fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> (Vec3, f64) {
-        (self.ndf.sample_visible(self.wi_side(), rng), 1.0)
+        (self.ndf.sample_visible(self.wi_side(), rng), self.mass)
     }
 }
 
@@ -131,6 +156,23 @@ pub trait Facet: Send + Sync {
     /// side of the macro-surface), or an unbiased estimate of it: `phase` with the facet's
     /// sampling density in place of `f |wo . m|`.
     fn phase_pdf<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64;
+
+    /// The density with which a hit followed by [`Facet::scatter`] sends the walker along `wo`
+    /// on the lower side of the interface if `o_inside` (else the upper), in closed form, or
+    /// `None` for facets that only estimate their phase function. The side is given rather
+    /// than read off `wo.z`: a walker refracted into the lower medium may travel upward in it.
+    /// Bidirectional estimation ([`Estimator`](super::Estimator) on a
+    /// [`Microsurface`]) weights paths by these densities.
+    fn side_pdf<V: VisibleNormals>(&self, _vis: &V, _wo: Vec3, _o_inside: bool) -> Option<f64> {
+        None
+    }
+
+    /// The index of refraction below the interface relative to the one above it: 1 for a facet
+    /// that never transmits. The walk is reciprocal with it:
+    /// `f(wi, wo) / n_o^2 = f(wo, wi) / n_i^2`.
+    fn relative_index(&self) -> f64 {
+        1.0
+    }
 }
 
 /// A smooth dielectric facet: index 1 above, `eta` below (`eta` may be below 1). Light is
@@ -179,8 +221,29 @@ impl Facet for DielectricFacet {
     /// vector `v = |v| h`, so the normalisation (whose square root and division run side by
     /// side) waits until they pass; for many directions they do not.
     fn phase<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, _rng: &mut R) -> f64 {
+        self.phase_to_side(vis, wo, wo.z < 0.0)
+    }
+
+    /// Sample weights are 1, so the sampling density is the phase function.
+    fn phase_pdf<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64 {
+        self.phase(vis, wo, rng)
+    }
+
+    fn side_pdf<V: VisibleNormals>(&self, vis: &V, wo: Vec3, o_inside: bool) -> Option<f64> {
+        Some(self.phase_to_side(vis, wo, o_inside))
+    }
+
+    fn relative_index(&self) -> f64 {
+        self.eta
+    }
+}
+
+impl DielectricFacet {
+    /// [`Facet::phase`] toward `wo` leaving into the lower medium if `o_inside`, whatever the
+    /// sign of `wo.z` ([`Facet::side_pdf`]).
+    #[inline]
+    fn phase_to_side<V: VisibleNormals>(&self, vis: &V, wo: Vec3, o_inside: bool) -> f64 {
         let wi = vis.wi();
-        let o_inside = wo.z < 0.0;
         let n_i = if vis.inside() { self.eta } else { 1.0 };
         let n_o = if o_inside { self.eta } else { 1.0 };
         let reflection = o_inside == vis.inside();
@@ -211,11 +274,6 @@ impl Facet for DielectricFacet {
             return 0.0;
         }
         d_vis * hv.dielectric_weight(self.eta, self.inv_eta)
-    }
-
-    /// Sample weights are 1, so the sampling density is the phase function.
-    fn phase_pdf<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, rng: &mut R) -> f64 {
-        self.phase(vis, wo, rng)
     }
 }
 
@@ -295,8 +353,21 @@ impl Facet for ConductorFacet {
         wo: Vec3,
         _rng: &mut R,
     ) -> f64 {
-        // Reflection keeps the walker on its side of the interface.
-        if (wo.z < 0.0) != vis.inside() {
+        self.reflection_pdf(vis, wo, wo.z < 0.0)
+    }
+
+    fn side_pdf<V: VisibleNormals>(&self, vis: &V, wo: Vec3, o_inside: bool) -> Option<f64> {
+        Some(self.reflection_pdf(vis, wo, o_inside))
+    }
+}
+
+impl ConductorFacet {
+    /// The density of reflected directions `wo` on the lower side if `o_inside`:
+    /// `D_vis(h) / (4 |wo.h|)`, 0 on the other side of the interface, which reflection never
+    /// reaches.
+    #[inline]
+    fn reflection_pdf<V: VisibleNormals>(&self, vis: &V, wo: Vec3, o_inside: bool) -> f64 {
+        if o_inside != vis.inside() {
             return 0.0;
         }
         let Some(hv) = HalfVector::of_pair(vis.wi(), wo, 1.0, 1.0, true, vis.wi_side()) else {

@@ -1,7 +1,9 @@
 //! The microsurface BSDF: the height-field random walk over an NDF and a facet BSDF.
 
-use super::engine::{self, Hit, Start, Target, WalkEnd, WalkSample, Walker, mirrored_depth};
-use super::{Facet, HeightFieldHit, MAX_BOUNCES, ScatteringOrders};
+use super::engine::{
+    self, Flight, Hit, Start, Target, WalkEnd, WalkSample, Walker, hit_fraction, mirrored_depth,
+};
+use super::{Facet, HeightFieldHit, MAX_BOUNCES, ScatteringOrders, WALKS_FROM_WO};
 use crate::error::ParamError;
 use crate::math::Vec3;
 use crate::ndf::Ndf;
@@ -47,19 +49,24 @@ use rand_distr::Exp1;
 /// # Ok::<(), stfit_core::ParamError>(())
 /// ```
 ///
-/// Variance: the next-event estimate of `eval` is heavy-tailed. A walker that hits the surface
-/// while travelling steeply upward sees few facets (small `sigma`), so its visible-normal
-/// density, and the phase value, is large, while such hits are rare. Multiple scattering toward
-/// grazing or weakly reachable directions therefore converges slowly, and for Student-T with
-/// `gamma < 2` (where `D` itself grows without bound toward grazing facets) the estimate has
-/// infinite variance: means converge, standard errors do not describe them. Sampling
-/// (`sample`, `albedo`) has no such issue: every walk has a bounded weight.
+/// Variance: next-event estimation averages over each flight (see the [module
+/// documentation](super)), which removes the tail of steep upward flights that rarely hit but
+/// then see a large phase function. What remains is heavy-tailed toward directions that a walk
+/// from `wi` reaches mostly through rare paths (backward transmission, straight through at
+/// normal incidence): one `eval` converges slowly there, and the batch estimates
+/// ([`Estimator`](super::Estimator)) walk from both ends. For Student-T with `gamma < 7/4`,
+/// `D` grows toward vertical facets fast enough (as `cos^(2 gamma - 4)`) that the phase
+/// function at an event whose half vector nears the horizon has infinite variance over the
+/// walker's directions; the bidirectional estimate tempers it at a path's ends, not at the
+/// events between: means converge, standard errors understate the error. Sampling (`sample`,
+/// `albedo`) has no such issue: every walk has a bounded weight.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Microsurface<N, F> {
     ndf: N,
     facet: F,
     orders: ScatteringOrders,
     max_bounces: u32,
+    walks_from_wo: f64,
 }
 
 impl<N: Ndf, F: Facet> Microsurface<N, F> {
@@ -70,6 +77,7 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
             facet,
             orders: ScatteringOrders::All,
             max_bounces: MAX_BOUNCES,
+            walks_from_wo: WALKS_FROM_WO,
         }
     }
 
@@ -93,6 +101,23 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
         self.max_bounces
     }
 
+    /// The same microsurface whose [`Estimator`](super::Estimator) walks, for each direction
+    /// `wo` it estimates, `fraction` as many walks from `wo` as it walks from `wi` (default
+    /// [`WALKS_FROM_WO`]), in `[0, 16]`; 0 estimates from `wi` alone. The walks from `wo`
+    /// serve one direction each, those from `wi` every `wo` at once: see
+    /// [`bidirectional`](super) estimation in the module documentation.
+    pub fn with_walks_from_wo(self, fraction: f64) -> Result<Self, ParamError> {
+        Ok(Self {
+            walks_from_wo: super::check_walks_from_wo(fraction)?,
+            ..self
+        })
+    }
+
+    /// Walks from each `wo` per walk from `wi` of the batch estimates.
+    pub fn walks_from_wo(&self) -> f64 {
+        self.walks_from_wo
+    }
+
     /// The NDF.
     pub fn ndf(&self) -> &N {
         &self.ndf
@@ -112,6 +137,35 @@ impl<N: Ndf, F: Facet> Microsurface<N, F> {
     /// an `Escaped` walk may lie outside the selected orders; see [`Microsurface::sample_walk`].
     pub fn random_walk<R: Rng + ?Sized>(&self, wi: Vec3, rng: &mut R) -> WalkEnd {
         engine::random_walk(self, wi, rng)
+    }
+
+    /// Projected area `sigma(-ws)` of the facets a walker travelling along `ws` (in the frame
+    /// of its side) can meet, given `lambda = Lambda(ws)`: `ws.z Lambda(ws)`, by
+    /// `sigma(v) = v.z (1 + Lambda(v))` and `Lambda(-v) = -1 - Lambda(v)`, or the NDF's own
+    /// where that product is not a positive number (at the horizon).
+    #[inline]
+    fn sigma_seen(&self, ws: Vec3, lambda: f64) -> f64 {
+        let sigma = ws.z * lambda;
+        if sigma.is_finite() && sigma > 0.0 {
+            sigma
+        } else {
+            self.ndf.sigma(-ws)
+        }
+    }
+
+    /// `sigma(-ws) / P(hit)` for a walker travelling upward along `ws` from depth `from`
+    /// ([`Flight`]): with `a = from Lambda(ws)`, `P(hit) = a phi(a)` and `sigma(-ws) = ws.z
+    /// Lambda(ws)`, so it is `ws.z / (from phi(a))`, finite as `Lambda` vanishes (`phi` is
+    /// [`hit_fraction`]).
+    #[inline]
+    fn sigma_per_hit(&self, ws: Vec3, lambda: f64, from: f64) -> f64 {
+        let a = from * lambda;
+        let p = a * hit_fraction(a);
+        if p >= 0.5 {
+            self.sigma_seen(ws, lambda) / p
+        } else {
+            ws.z / (from * hit_fraction(a))
+        }
     }
 
     /// The exit of one random walk from `wi` if its order is selected: the fast core of
@@ -140,13 +194,15 @@ impl<N: Ndf, F: Facet> Walker for Microsurface<N, F> {
         Start {
             wi,
             lambda: self.ndf.lambda(ws),
+            at_hits: false,
         }
     }
 
     /// The height-field walk: free flights in depth with rate `|Lambda|`, exact visible-normal
-    /// sampling at every hit.
+    /// sampling at every hit. Next-event estimation averages over every flight
+    /// ([`Flight::Up`], [`Flight::Down`]).
     #[inline]
-    fn walk<R: Rng + ?Sized>(
+    fn walk<const NEE: bool, R: Rng + ?Sized>(
         &self,
         start: &Start,
         rng: &mut R,
@@ -167,6 +223,9 @@ impl<N: Ndf, F: Facet> Walker for Microsurface<N, F> {
                 self.ndf.lambda(ws)
             };
             let flight: f64 = rng.sample(Exp1);
+            // Whether the event this flight may end in is visited (see `Walker::walk`).
+            let visited = NEE && order < last && order < self.max_bounces;
+            let from = depth;
             if ws.z > 0.0 {
                 // Escape probability exp(-depth Lambda) = G1(w, h): the walker escapes unless
                 // depth Lambda > flight (NaN at depth 0 with Lambda infinite escapes), a test
@@ -174,6 +233,33 @@ impl<N: Ndf, F: Facet> Walker for Microsurface<N, F> {
                 // differ by rounding the walker stays, at the top (depth 0) at the least.
                 let hits = depth * lambda > flight;
                 if !hits {
+                    if visited && from > 0.0 && !start.at_hits {
+                        // The event the flight would have ended in, at a depth drawn from the
+                        // flight's hits: given that the walker escaped, flight - a is a fresh
+                        // Exp(1), so exp(a - flight) is a uniform that places it (no random
+                        // number drawn, so walks with and without NEE draw the same numbers).
+                        let a = from * lambda;
+                        let u = (a - flight).exp();
+                        // The fraction of `from` the truncated exponential climbs.
+                        let climb = if a > 1e-12 {
+                            -(-u * a * hit_fraction(a)).ln_1p() / a
+                        } else {
+                            u
+                        };
+                        visit(
+                            &Hit {
+                                wi: -w,
+                                inside,
+                                sigma: self.sigma_seen(ws, lambda),
+                                sigma_nee: self.sigma_per_hit(ws, lambda, from),
+                                depth: (from * (1.0 - climb)).max(0.0),
+                                flight: Flight::Up { from, lambda },
+                                weight,
+                                order: order + 1,
+                            },
+                            rng,
+                        );
+                    }
                     return WalkEnd::Escaped(WalkSample {
                         wo: w,
                         weight,
@@ -192,28 +278,42 @@ impl<N: Ndf, F: Facet> Walker for Microsurface<N, F> {
             if order > self.max_bounces {
                 return WalkEnd::Truncated { weight };
             }
-            // sigma(-ws) = ws.z Lambda(ws), by sigma(v) = v.z (1 + Lambda(v)) and
-            // Lambda(-v) = -1 - Lambda(v).
-            let wi_side = -ws;
-            let sigma = ws.z * lambda;
-            let sigma = if sigma.is_finite() && sigma > 0.0 {
-                sigma
-            } else {
-                self.ndf.sigma(wi_side)
-            };
-            visit(
-                &Hit {
-                    wi: -w,
-                    inside,
-                    sigma,
-                    depth,
-                    weight,
-                    order,
-                },
-                rng,
-            );
+            if visited {
+                let sigma = self.sigma_seen(ws, lambda);
+                let (sigma_nee, flight) = if ws.z > 0.0 {
+                    (
+                        if start.at_hits {
+                            sigma
+                        } else {
+                            self.sigma_per_hit(ws, lambda, from)
+                        },
+                        Flight::Up { from, lambda },
+                    )
+                } else {
+                    (
+                        sigma,
+                        Flight::Down {
+                            from,
+                            rate: -lambda,
+                        },
+                    )
+                };
+                visit(
+                    &Hit {
+                        wi: -w,
+                        inside,
+                        sigma,
+                        sigma_nee,
+                        depth,
+                        flight,
+                        weight,
+                        order,
+                    },
+                    rng,
+                );
+            }
             // Scatter at a visible facet (outward normal m).
-            let m = self.ndf.sample_visible(wi_side, rng);
+            let m = self.ndf.sample_visible(-ws, rng);
             let Some(s) = self.facet.scatter(-w, m, rng) else {
                 return WalkEnd::Absorbed;
             };
@@ -229,7 +329,7 @@ impl<N: Ndf, F: Facet> Walker for Microsurface<N, F> {
 
     #[inline]
     fn phase<R: Rng + ?Sized>(&self, hit: &Hit, wo: Vec3, pdf: bool, rng: &mut R) -> f64 {
-        let vis = HeightFieldHit::with_sigma(&self.ndf, hit.wi, hit.inside, hit.sigma);
+        let vis = HeightFieldHit::reached(&self.ndf, hit.wi, hit.inside, hit.sigma, hit.sigma_nee);
         if pdf {
             self.facet.phase_pdf(&vis, wo, rng)
         } else {

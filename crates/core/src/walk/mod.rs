@@ -35,12 +35,30 @@
 //! # What is estimated
 //!
 //! `eval(wi, wo)` returns `f(wi, wo) |wo.z|` with no radiance `1/eta^2` scaling, as every
-//! [`Bsdf`](crate::bsdf::Bsdf) in this crate: the walk from `wi` adds, at every hit, the phase
-//! function toward `wo` times the probability of leaving toward `wo` from that height
-//! (next-event estimation). Walks are never cut at a fixed order; a safety cap of
-//! [`MAX_BOUNCES`] scattering events (far above any real path) ends runaway walks, and the
-//! estimators report the energy it drops.
+//! [`Bsdf`](crate::bsdf::Bsdf) in this crate: the walk from `wi` adds, for every flight, the
+//! phase function toward `wo` at the facet the flight ends on times the probability of leaving
+//! toward `wo` from there (next-event estimation). On the height-field walk that product is
+//! averaged over the flight in closed form, including the probability that the flight hits at
+//! all, rather than taken at the depth drawn: the same mean, without the heavy tail of steep
+//! upward flights, which rarely hit but then see few facets and a large phase function. Walks
+//! are never cut at a fixed order; a safety cap of [`MAX_BOUNCES`] scattering events (far above
+//! any real path) ends runaway walks, and the estimators report the energy it drops.
+//!
+//! # Bidirectional estimates
+//!
+//! Next-event estimation from `wi` alone draws some paths too rarely for the share of
+//! `f(wi, wo)` they carry (light reflected steeply downward by a near-vertical facet, then
+//! refracted straight through: once in 10^5 walks at normal incidence on alpha 0.3, with an
+//! estimate 10^5 times the mean). The batch estimates of a [`Microsurface`] with closed-form
+//! facets ([`Estimator`]: `eval_many`, [`eval_pairs`]) therefore also walk from each `wo`
+//! toward `wi` (by reciprocity, `f(wi, wo) / n_o^2 = f(wo, wi) / n_i^2`) and weight every path
+//! by the balance heuristic over the densities with which the two ends choose its directions.
+//! At the hardest directions this cuts the standard error of 20,000 walks from the size of the
+//! value to a few percent (`cargo run --release -p stfit-core --example walk_variance`). The
+//! walks from `wo` serve one direction each: [`Microsurface::with_walks_from_wo`] sets how
+//! many ([`WALKS_FROM_WO`] per walk from `wi` by default, 0 for `wi` alone).
 
+mod bidirectional;
 mod cost;
 mod engine;
 mod estimate;
@@ -60,6 +78,24 @@ pub use facet::{
 };
 pub use microsurface::Microsurface;
 pub use null::{NullHit, NullMicrosurface};
+
+/// Walks from each direction `wo` per walk from `wi` in the batch estimates of a
+/// [`Microsurface`] ([`Estimator`]; see [`Microsurface::with_walks_from_wo`]).
+pub const WALKS_FROM_WO: f64 = 0.25;
+
+/// Validates a number of walks from each `wo` per walk from `wi`
+/// ([`Microsurface::with_walks_from_wo`]): in `[0, 16]`.
+pub fn check_walks_from_wo(fraction: f64) -> Result<f64, crate::ParamError> {
+    if (0.0..=16.0).contains(&fraction) {
+        Ok(fraction)
+    } else {
+        Err(crate::ParamError::OutOfRange {
+            name: "walks_from_wo",
+            value: fraction,
+            expected: "in [0, 16]",
+        })
+    }
+}
 
 use crate::bsdf::Masking;
 use serde::{Deserialize, Serialize};

@@ -1,7 +1,9 @@
 //! The null-scattering random walk for any bounded NDF on the whole sphere; see
 //! [`NullMicrosurface`].
 
-use super::engine::{self, Hit, Start, Target, WalkEnd, WalkSample, Walker, mirrored_depth};
+use super::engine::{
+    self, Flight, Hit, Start, Target, WalkEnd, WalkSample, Walker, mirrored_depth,
+};
 use super::estimate::{AlbedoEstimate, estimators};
 use super::{Facet, MAX_BOUNCES, ScatteringOrders, VisibleNormals};
 use crate::error::ParamError;
@@ -299,10 +301,14 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
 
     #[inline]
     fn start(&self, wi: Vec3) -> Start {
-        Start { wi, lambda: 0.0 }
+        Start {
+            wi,
+            lambda: 0.0,
+            at_hits: false,
+        }
     }
 
-    fn walk<R: Rng + ?Sized>(
+    fn walk<const NEE: bool, R: Rng + ?Sized>(
         &self,
         start: &Start,
         rng: &mut R,
@@ -339,13 +345,15 @@ impl<S: SphereNdf, F: Facet> Walker for NullMicrosurface<S, F> {
             } else {
                 depth += dt;
             }
-            if real < last {
+            if NEE && real < last {
                 visit(
                     &Hit {
                         wi: -w,
                         inside,
                         sigma: rate,
+                        sigma_nee: rate,
                         depth,
+                        flight: Flight::Sampled,
                         weight,
                         order: real + 1,
                     },
