@@ -99,7 +99,9 @@ impl PyMicrosurface {
     }
 
     /// Estimates of `f(wi, wo) |wo.z|` and their standard errors, as two arrays: pairs that
-    /// share a `wi` share one set of `walks` walks, seeded by the direction and `seed`.
+    /// share a `wi` share one set of `walks` walks, seeded by the direction and `seed`; with
+    /// dielectric or conductor facets every pair adds a quarter as many walks from its `wo`
+    /// (bidirectional estimates).
     #[pyo3(signature = (wi, wo, walks = DEFAULT_EVAL_WALKS, seed = 1))]
     fn eval<'py>(
         &self,

@@ -146,8 +146,10 @@ class Microsurface:
         self, wi: ArrayLike, wo: ArrayLike, walks: int = 100_000, seed: int = 1
     ) -> tuple[FloatOrArray, FloatOrArray]:
         """Monte Carlo estimates of ``f(wi, wo) |wo.z|`` and their standard errors. Pairs that
-        share a ``wi`` share one set of ``walks`` walks, seeded by the direction and ``seed``,
-        so each estimate depends on its pair and the seed only."""
+        share a ``wi`` share one set of ``walks`` walks, seeded by the direction and ``seed``;
+        with dielectric or conductor facets every pair adds a quarter as many walks from its
+        ``wo``, toward ``wi``, weighted path by path against those from ``wi`` (bidirectional
+        estimates). Each estimate depends on its pair and the seed only."""
 
 class Dataset:
     """Measurements: named samples of points (angles, value ``L`` or BSDF, weight)."""

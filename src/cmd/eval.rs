@@ -16,6 +16,7 @@ use stfit_core::bsdf::AnalyticBsdf;
 use stfit_core::surface::Evaluation;
 use stfit_core::walk::{
     DEFAULT_EVAL_WALKS, defined_stderr, distinct_incidences, eval_pairs_with_progress,
+    walks_from_each_wo,
 };
 use stfit_fit::pairs::read_pairs;
 
@@ -83,7 +84,14 @@ pub fn run(args: &Args) -> CmdResult {
         Evaluation::Walk(walk) => {
             let incidences = distinct_incidences(&table.pairs);
             let bar = incidences.first().and_then(|&wi| {
-                let walks = args.walks.saturating_mul(incidences.len() as u64);
+                // Walks from every incidence, and from every pair's wo (bidirectional).
+                let walks = args
+                    .walks
+                    .saturating_mul(incidences.len() as u64)
+                    .saturating_add(
+                        walks_from_each_wo(walk.as_ref(), args.walks)
+                            .saturating_mul(table.pairs.len() as u64),
+                    );
                 long_run::announce(walk.as_ref(), wi, walks, args.seed)
             });
             let progress = |n| {

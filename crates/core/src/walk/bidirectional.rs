@@ -245,7 +245,8 @@ pub(crate) fn eval_many<N: Ndf, F: Facet>(
 }
 
 /// One quantity's sums over chunks of walks matching chunks of `lens` walks, `fraction` as
-/// many each (at least one), each chunk with its own stream from `seed`, in parallel.
+/// many each (at least one; [`super::walks_from_each_wo`] counts them), each chunk with its
+/// own stream from `seed`, in parallel.
 fn chunks_like<Wk>(lens: &[u64], fraction: f64, seed: u64, walk: Wk) -> Vec<Sums>
 where
     Wk: Fn(&mut rand_pcg::Pcg64, &mut [f64]) + Sync,

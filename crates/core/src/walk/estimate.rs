@@ -168,6 +168,13 @@ pub trait Estimator: Sync {
         progress: &(dyn Fn(u64) + Sync),
     ) -> AlbedoEstimate;
 
+    /// Walks from each `wo` per walk from `wi` that [`Estimator::eval_many_batched`] adds
+    /// (bidirectional estimates, see the [module documentation](super)); 0 where it walks
+    /// from `wi` alone.
+    fn walks_from_wo(&self) -> f64 {
+        0.0
+    }
+
     /// [`Estimator::albedo_with_progress`] without progress reports.
     fn albedo(&self, wi: Vec3, walks: u64, seed: u64) -> AlbedoEstimate {
         self.albedo_with_progress(wi, walks, seed, &|_| {})
@@ -207,11 +214,19 @@ pub(crate) use estimators;
 /// alone.
 impl<N: Ndf, F: Facet> Estimator for Microsurface<N, F> {
     fn eval_many_batched(&self, wi: Vec3, wos: &[Vec3], walks: u64, seed: u64) -> Batched {
-        let fraction = self.walks_from_wo();
-        if fraction > 0.0 && super::bidirectional::supported(self) {
+        let fraction = Estimator::walks_from_wo(self);
+        if fraction > 0.0 {
             super::bidirectional::eval_many(self, wi, wos, walks, fraction, seed)
         } else {
             eval_many(self, wi, wos, walks, seed)
+        }
+    }
+
+    fn walks_from_wo(&self) -> f64 {
+        if super::bidirectional::supported(self) {
+            Microsurface::walks_from_wo(self)
+        } else {
+            0.0
         }
     }
 
@@ -274,13 +289,27 @@ pub fn eval_pairs_with_progress(
         };
         pairs.len()
     ];
+    let from_wo = walks_from_each_wo(estimator, walks);
     for_each_incidence(estimator, pairs, walks, seed, |_, members, b| {
         for (&k, e) in members.iter().zip(b.estimates) {
             out[k] = e;
         }
-        progress(walks);
+        progress(walks + from_wo * members.len() as u64);
     });
     out
+}
+
+/// The walks that [`Estimator::eval_many_batched`] with `walks` walks from `wi` runs from
+/// each `wo`: [`Estimator::walks_from_wo`] times as many per chunk, at least one per chunk.
+pub fn walks_from_each_wo(estimator: &dyn Estimator, walks: u64) -> u64 {
+    let fraction = estimator.walks_from_wo();
+    if fraction == 0.0 {
+        return 0;
+    }
+    chunk_walks(walks)
+        .iter()
+        .map(|&n| ((n as f64 * fraction).round() as u64).max(1))
+        .sum()
 }
 
 /// The distinct incident directions of `pairs` (bit for bit, `-0.0` as `0.0`), in order of
