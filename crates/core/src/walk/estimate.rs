@@ -432,8 +432,9 @@ pub(crate) fn merged(chunks: &[Vec<Sums>], k: usize) -> Vec<Sums> {
 }
 
 /// Estimates `f(wi, wo) |wo.z|` for every `wo` in `wos` from one set of `walks` walks from
-/// `wi`, with next-event estimation toward every `wo` at every event, averaged over each
-/// flight ([`super::engine::Flight`]). Parallel (rayon) and deterministic for a given `seed`.
+/// `wi`, with next-event estimation toward every `wo` at every hit, the escape averaged over
+/// the depths of the flight's hits ([`super::engine::Start::at_hits`]). Parallel (rayon) and
+/// deterministic for a given `seed`.
 pub(crate) fn eval_many<W: Walker>(
     w: &W,
     wi: Vec3,
@@ -443,7 +444,7 @@ pub(crate) fn eval_many<W: Walker>(
 ) -> Batched {
     let targets: Vec<Option<Target>> = wos.iter().map(|&wo| w.target(wo)).collect();
     let k = wos.len();
-    let start = (wi.z != 0.0).then(|| w.start(wi).for_targets(k));
+    let start = (wi.z != 0.0).then(|| w.start(wi).at_hits(true));
     let chunks = chunk_sums(walks, seed, k, |rng, acc| {
         let Some(start) = &start else { return };
         w.walk::<true, _>(start, rng, |hit, rng| {

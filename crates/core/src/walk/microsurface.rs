@@ -49,12 +49,12 @@ use rand_distr::Exp1;
 /// # Ok::<(), stfit_core::ParamError>(())
 /// ```
 ///
-/// Variance: next-event estimation averages over each flight (see the [module
-/// documentation](super)), which removes the tail of steep upward flights that rarely hit but
-/// then see a large phase function. What remains is heavy-tailed toward directions that a walk
-/// from `wi` reaches mostly through rare paths (backward transmission, straight through at
-/// normal incidence): one `eval` converges slowly there, and the batch estimates
-/// ([`Estimator`](super::Estimator)) walk from both ends. For Student-T with `gamma < 7/4`,
+/// Variance: one `eval` is heavy-tailed. A walker that hits the surface while travelling
+/// steeply upward sees few facets (small `sigma`), so its phase function is large, while such
+/// hits are rare; and some directions are reached mostly through rare paths (backward
+/// transmission, straight through at normal incidence). One `eval` converges slowly there; the
+/// batch estimates ([`Estimator`](super::Estimator)) average over every flight and walk from
+/// both ends (module documentation). For Student-T with `gamma < 7/4`,
 /// `D` grows toward vertical facets fast enough (as `cos^(2 gamma - 4)`) that the phase
 /// function at an event whose half vector nears the horizon has infinite variance over the
 /// walker's directions; the bidirectional estimate tempers it at a path's ends, not at the

@@ -37,12 +37,13 @@
 //! `eval(wi, wo)` returns `f(wi, wo) |wo.z|` with no radiance `1/eta^2` scaling, as every
 //! [`Bsdf`](crate::bsdf::Bsdf) in this crate: the walk from `wi` adds, for every flight, the
 //! phase function toward `wo` at the facet the flight ends on times the probability of leaving
-//! toward `wo` from there (next-event estimation). On the height-field walk that product is
-//! averaged over the flight in closed form, including the probability that the flight hits at
-//! all, rather than taken at the depth drawn: the same mean, without the heavy tail of steep
-//! upward flights, which rarely hit but then see few facets and a large phase function. Walks
-//! are never cut at a fixed order; a safety cap of [`MAX_BOUNCES`] scattering events (far above
-//! any real path) ends runaway walks, and the estimators report the energy it drops.
+//! toward `wo` from there (next-event estimation). On the height-field walk the escape is
+//! averaged over the depths the flight can reach in closed form; in the bidirectional batch
+//! estimates below, so is the whole product, including the probability that the flight hits at
+//! all: the same mean, without the heavy tail of steep upward flights, which rarely hit but
+//! then see few facets and a large phase function. Walks are never cut at a fixed order; a
+//! safety cap of [`MAX_BOUNCES`] scattering events (far above any real path) ends runaway
+//! walks, and the estimators report the energy it drops.
 //!
 //! # Bidirectional estimates
 //!
