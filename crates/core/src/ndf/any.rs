@@ -93,6 +93,15 @@ impl Ndf for AnyNdf {
     fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3 {
         dispatch!(self, n => n.sample_visible(w, rng))
     }
+
+    fn sample_visible_after<R: Rng + ?Sized>(
+        &self,
+        w: Vec3,
+        lambda_back: f64,
+        rng: &mut R,
+    ) -> Vec3 {
+        dispatch!(self, n => n.sample_visible_after(w, lambda_back, rng))
+    }
 }
 
 impl From<Beckmann> for AnyNdf {

@@ -91,17 +91,44 @@ impl Ndf for Ggx {
     /// azimuth and an independent uniform `s = x1^2 + x2^2`, which places the point's height
     /// `z = 1 - (1 + w_s.z) s` uniformly on the cap (Marsaglia 1972); its horizontal part is
     /// `(x1, x2) sqrt((1 - z^2) / s)`.
-    #[inline]
+    #[inline(always)]
     fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3 {
-        let (x1, x2, s) = loop {
-            let x1 = 2.0 * rng.random::<f64>() - 1.0;
-            let x2 = 2.0 * rng.random::<f64>() - 1.0;
-            let s = x1 * x1 + x2 * x2;
-            if s < 1.0 {
-                break (x1, x2, s);
-            }
+        let (x1, x2, s) = unit_disk(rng);
+        self.cap_normal(w, self.stretched_length(w), x1, x2, s)
+    }
+
+    /// The stretched length `|(alpha w.x, alpha w.y, w.z)|` is `-w.z (1 + 2 Lambda(-w))` on the
+    /// whole sphere (`Lambda = (sqrt(1 + alpha^2 tan^2) - 1) / 2` above the horizon, and
+    /// `Lambda(-v) = -1 - Lambda(v)`): a product in place of a square root where `Lambda(-w)`
+    /// is known, except at the horizon.
+    #[inline(always)]
+    fn sample_visible_after<R: Rng + ?Sized>(
+        &self,
+        w: Vec3,
+        lambda_back: f64,
+        rng: &mut R,
+    ) -> Vec3 {
+        let (x1, x2, s) = unit_disk(rng);
+        let l = -w.z * (1.0 + 2.0 * lambda_back);
+        let l = if l.is_finite() && l > 0.0 {
+            l
+        } else {
+            self.stretched_length(w)
         };
-        self.cap_normal(w, x1, x2, s)
+        self.cap_normal(w, l, x1, x2, s)
+    }
+}
+
+/// A uniform point `(x1, x2)` of the unit disk by rejection from the square, and `x1^2 + x2^2`.
+#[inline]
+fn unit_disk<R: Rng + ?Sized>(rng: &mut R) -> (f64, f64, f64) {
+    loop {
+        let x1 = 2.0 * rng.random::<f64>() - 1.0;
+        let x2 = 2.0 * rng.random::<f64>() - 1.0;
+        let s = x1 * x1 + x2 * x2;
+        if s < 1.0 {
+            return (x1, x2, s);
+        }
     }
 }
 
@@ -128,7 +155,14 @@ impl Ggx {
     pub fn sample_visible_from(&self, w: Vec3, u: [f64; 2]) -> Vec3 {
         let (sp, cp) = (2.0 * PI * u[0]).sin_cos();
         let r = u[1].sqrt();
-        self.cap_normal(w, r * cp, r * sp, u[1])
+        self.cap_normal(w, self.stretched_length(w), r * cp, r * sp, u[1])
+    }
+
+    /// `|(alpha w.x, alpha w.y, w.z)|`, the length of `w` stretched to roughness 1.
+    #[inline]
+    fn stretched_length(&self, w: Vec3) -> f64 {
+        let a = self.alpha;
+        (a * a * (w.x * w.x + w.y * w.y) + w.z * w.z).sqrt()
     }
 
     /// The visible normal seen from `w` for the point `(x1, x2)` of the unit disk with
@@ -139,12 +173,11 @@ impl Ggx {
     /// `l = |w_s|`, so `w_s` is never normalised: `l (1 - z) = p = s (l + w_s.z)` and
     /// `l^2 (1 - z^2) / s = (l + w_s.z) (2 l - p)`, without cancellation near the cap's pole.
     /// The cap point plus `w_s` is unstretched to the normal. One square root and one
-    /// division besides `l`.
+    /// division besides `l`, which the caller gives ([`Ggx::stretched_length`]).
     #[inline]
-    fn cap_normal(&self, w: Vec3, x1: f64, x2: f64, s: f64) -> Vec3 {
+    fn cap_normal(&self, w: Vec3, l: f64, x1: f64, x2: f64, s: f64) -> Vec3 {
         let a = self.alpha;
         let ws = Vec3::new(a * w.x, a * w.y, w.z);
-        let l = ws.norm();
         let q = l + ws.z;
         let p = s * q;
         let r = safe_sqrt(q * (2.0 * l - p));
@@ -157,6 +190,45 @@ impl Ggx {
             // Measure-zero draw exactly on the cap's rim: fall back to the stretched view.
             let m = Vec3::new(a * ws.x, a * ws.y, ws.z.abs().max(f64::MIN_POSITIVE));
             m.normalize()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::spherical_direction;
+    use rand::SeedableRng;
+    use rand_pcg::Pcg64;
+    use std::f64::consts::FRAC_PI_2;
+
+    /// Given `Lambda(-w)`, the walk's sampler draws the normal `sample_visible` draws from the
+    /// same random numbers, to a few ulps, from near-vertical to near-grazing `w` on both
+    /// sides, where the stretched length comes from Lambda instead of a square root.
+    #[test]
+    fn sampling_after_lambda_matches_sample_visible() {
+        for alpha in [0.01, 0.45, 3.0] {
+            let ggx = Ggx::new(alpha).unwrap();
+            for theta in [
+                1e-6,
+                0.3,
+                1.2,
+                FRAC_PI_2 - 1e-4,
+                FRAC_PI_2 + 1e-4,
+                2.5,
+                std::f64::consts::PI - 1e-6,
+            ] {
+                let w = spherical_direction(theta, 0.7);
+                let (mut a, mut b) = (Pcg64::seed_from_u64(5), Pcg64::seed_from_u64(5));
+                for _ in 0..100 {
+                    let m = ggx.sample_visible(w, &mut a);
+                    let n = ggx.sample_visible_after(w, ggx.lambda(-w), &mut b);
+                    assert!(
+                        (m - n).norm() < 1e-13,
+                        "alpha {alpha} theta {theta}: {m:?} {n:?}"
+                    );
+                }
+            }
         }
     }
 }

@@ -41,6 +41,21 @@ pub trait Ndf: Clone + Send + Sync {
     /// The result is a unit vector with `w.wm > 0` and `wm.z > 0`.
     fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3;
 
+    /// [`Ndf::sample_visible`] from `w` given `lambda_back = Lambda(-w)`, which a random walk has
+    /// computed for the flight that ends seen from `w`: NDFs whose sampler shares work with
+    /// Lambda take it from there (GGX's stretched length). The same normal for the same random
+    /// numbers, to rounding.
+    #[inline]
+    fn sample_visible_after<R: Rng + ?Sized>(
+        &self,
+        w: Vec3,
+        lambda_back: f64,
+        rng: &mut R,
+    ) -> Vec3 {
+        let _ = lambda_back;
+        self.sample_visible(w, rng)
+    }
+
     /// Smith masking `G1(w) = 1 / (1 + Lambda(w'))` of a direction by the surface on its own
     /// side: `w'` is `w` mirrored to the upper hemisphere (so a direction inside a dielectric is
     /// masked by the mirrored surface, as in Walter et al. 2007). The local facet condition

@@ -53,6 +53,21 @@ pub(crate) enum Flight {
     Down { from: f64, rate: f64 },
 }
 
+impl Flight {
+    /// For an upward flight of optical depth `a = from lambda`: `exp(-a)` and
+    /// [`hit_fraction`]`(a)`; `(0, 1)` for the others.
+    #[inline]
+    fn upward_terms(self) -> (f64, f64) {
+        match self {
+            Flight::Up { from, lambda } => {
+                let a = from * lambda;
+                ((-a).exp(), hit_fraction(a))
+            }
+            _ => (0.0, 1.0),
+        }
+    }
+}
+
 /// A scattering event, as next-event estimation sees it.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Hit {
@@ -105,13 +120,7 @@ impl Hit {
     /// The quantities every target's expected escape from this event needs.
     #[inline]
     pub fn reach(&self) -> Reach {
-        let (misses, fraction) = match self.flight {
-            Flight::Up { from, lambda } => {
-                let a = from * lambda;
-                ((-a).exp(), hit_fraction(a))
-            }
-            _ => (0.0, 1.0),
-        };
+        let (misses, fraction) = self.flight.upward_terms();
         Reach {
             inside: self.inside,
             flight: self.flight,
@@ -193,8 +202,25 @@ impl Target {
         if self.inside != r.inside {
             return (-r.mirrored * self.lambda).exp();
         }
-        match r.flight {
-            Flight::Sampled => (-r.depth * self.lambda).exp(),
+        self.same_side(r.flight, r.depth, r.misses, r.fraction)
+    }
+
+    /// [`Target::escape`] from a hit, computing only what this target needs (no mirrored
+    /// depth on the walker's side, no exponentials for a downward flight).
+    #[inline]
+    pub fn escape_from(&self, hit: &Hit) -> f64 {
+        if self.inside != hit.inside {
+            return (-mirrored_depth(hit.depth) * self.lambda).exp();
+        }
+        let (misses, fraction) = hit.flight.upward_terms();
+        self.same_side(hit.flight, hit.depth, misses, fraction)
+    }
+
+    /// [`Target::escape`] on the walker's side, given [`Flight::upward_terms`].
+    #[inline]
+    fn same_side(&self, flight: Flight, depth: f64, misses: f64, fraction: f64) -> f64 {
+        match flight {
+            Flight::Sampled => (-depth * self.lambda).exp(),
             Flight::Down { from, rate } => {
                 (-from * self.lambda).exp() * rate / (rate + self.lambda)
             }
@@ -208,19 +234,13 @@ impl Target {
                 // exp(-min(a, b)) phi(|a - b|): from the difference of the two exponentials
                 // where that loses at most a few ulps, else without cancellation.
                 let both = if d >= 0.5 {
-                    (eb - r.misses).abs() / d
+                    (eb - misses).abs() / d
                 } else {
-                    eb.max(r.misses) * hit_fraction(d)
+                    eb.max(misses) * hit_fraction(d)
                 };
-                both / r.fraction
+                both / fraction
             }
         }
-    }
-
-    /// [`Target::escape`] from a hit.
-    #[inline]
-    pub fn escape_from(&self, hit: &Hit) -> f64 {
-        self.escape(&hit.reach())
     }
 }
 

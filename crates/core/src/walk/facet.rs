@@ -201,7 +201,7 @@ impl DielectricFacet {
 }
 
 impl Facet for DielectricFacet {
-    #[inline]
+    #[inline(always)]
     fn scatter<R: Rng + ?Sized>(&self, wi: Vec3, m: Vec3, rng: &mut R) -> Option<FacetSample> {
         // Under total internal reflection the Fresnel reflectance is 1: no choice to draw.
         // Refract with probability 1 - F, decided without dividing for F.

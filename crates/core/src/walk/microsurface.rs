@@ -313,7 +313,14 @@ impl<N: Ndf, F: Facet> Walker for Microsurface<N, F> {
                 );
             }
             // Scatter at a visible facet (outward normal m).
-            let m = self.ndf.sample_visible(-ws, rng);
+            // After the first flight the sampler takes what it shares with Lambda from the
+            // flight's; at the first, Lambda(wi) is itself on the critical path, and the
+            // sampler computes its own in parallel.
+            let m = if order == 1 {
+                self.ndf.sample_visible(-ws, rng)
+            } else {
+                self.ndf.sample_visible_after(-ws, lambda, rng)
+            };
             let Some(s) = self.facet.scatter(-w, m, rng) else {
                 return WalkEnd::Absorbed;
             };
