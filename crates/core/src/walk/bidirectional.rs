@@ -29,6 +29,7 @@ use super::estimate::{
 use super::{Facet, HeightFieldHit, Microsurface};
 use crate::math::Vec3;
 use crate::ndf::Ndf;
+use rayon::prelude::*;
 
 /// What the direction densities need of a scattering event.
 #[derive(Debug, Clone, Copy)]
@@ -198,20 +199,40 @@ pub(crate) fn eval_many<N: Ndf, F: Facet>(
     let eta = s.facet().relative_index();
     // Per target: the scale from eval(wo, wi) to eval(wi, wo), and the sums of the chunks of
     // walks from wo (empty where there are none).
-    let reverse: Vec<(f64, Vec<Sums>)> = targets
+    // The walks from each wo: per target, the scale from eval(wo, wi) to eval(wi, wo) and the
+    // sums of its chunks (none where it has no walks), every (target, chunk) in parallel.
+    let jobs: Vec<(usize, usize)> = match toward_wi[0] {
+        Some(_) => targets
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.is_some())
+            .flat_map(|(j, _)| (0..lens.len()).map(move |c| (j, c)))
+            .collect(),
+        None => Vec::new(),
+    };
+    let starts: Vec<Option<(super::engine::Start, u64)>> = targets
         .iter()
-        .map(|t| match (t, &toward_wi[0]) {
-            (Some(t), Some(_)) => {
-                let start = s.start(t.wo);
-                let seed = direction_seed(seed ^ FROM_WO, t.wo);
-                let sums = chunks_like(&lens, fraction, seed, |rng, acc| {
-                    weighted_walk(s, &start, &toward_wi, 1.0 / kappa, rng, acc);
-                });
-                (reciprocity(eta, wi, t.wo), sums)
-            }
+        .map(|t| t.map(|t| (s.start(t.wo), direction_seed(seed ^ FROM_WO, t.wo))))
+        .collect();
+    let sums: Vec<Sums> = jobs
+        .par_iter()
+        .map(|&(j, c)| {
+            let (start, seed) = starts[j].expect("a job per valid target");
+            chunk_like(lens[c], fraction, seed, c, |rng, acc| {
+                weighted_walk(s, &start, &toward_wi, 1.0 / kappa, rng, acc);
+            })
+        })
+        .collect();
+    let mut reverse: Vec<(f64, Vec<Sums>)> = targets
+        .iter()
+        .map(|t| match t {
+            Some(t) if toward_wi[0].is_some() => (reciprocity(eta, wi, t.wo), Vec::new()),
             _ => (0.0, Vec::new()),
         })
         .collect();
+    for (&(j, _), sum) in jobs.iter().zip(sums) {
+        reverse[j].1.push(sum);
+    }
     let total = walks as f64;
     let estimates = merged(&forward, k)
         .iter()
@@ -244,29 +265,23 @@ pub(crate) fn eval_many<N: Ndf, F: Facet>(
     Batched { estimates, batches }
 }
 
-/// One quantity's sums over chunks of walks matching chunks of `lens` walks, `fraction` as
-/// many each (at least one; [`super::walks_from_each_wo`] counts them), each chunk with its
-/// own stream from `seed`, in parallel.
-fn chunks_like<Wk>(lens: &[u64], fraction: f64, seed: u64, walk: Wk) -> Vec<Sums>
+/// One quantity's sums over chunk `chunk` of walks from `wo`: `fraction` times the `len` walks
+/// of the matching chunk from `wi` (at least one; [`super::walks_from_each_wo`] counts them),
+/// with the chunk's own stream from `seed`.
+fn chunk_like<Wk>(len: u64, fraction: f64, seed: u64, chunk: usize, walk: Wk) -> Sums
 where
-    Wk: Fn(&mut rand_pcg::Pcg64, &mut [f64]) + Sync,
+    Wk: Fn(&mut rand_pcg::Pcg64, &mut [f64]),
 {
-    use rayon::prelude::*;
-    lens.par_iter()
-        .enumerate()
-        .map(|(c, &n)| {
-            let walks = ((n as f64 * fraction).round() as u64).max(1);
-            let mut rng = chunk_rng(seed, c as u64);
-            let mut sums = Sums::default();
-            let mut acc = [0.0];
-            for _ in 0..walks {
-                acc[0] = 0.0;
-                walk(&mut rng, &mut acc);
-                sums.add(acc[0]);
-            }
-            sums
-        })
-        .collect()
+    let walks = ((len as f64 * fraction).round() as u64).max(1);
+    let mut rng = chunk_rng(seed, chunk as u64);
+    let mut sums = Sums::default();
+    let mut acc = [0.0];
+    for _ in 0..walks {
+        acc[0] = 0.0;
+        walk(&mut rng, &mut acc);
+        sums.add(acc[0]);
+    }
+    sums
 }
 
 #[cfg(test)]
