@@ -197,8 +197,6 @@ pub(crate) fn eval_many<N: Ndf, F: Facet>(
     let lens = chunk_walks(walks);
     let toward_wi = [s.target(wi)];
     let eta = s.facet().relative_index();
-    // Per target: the scale from eval(wo, wi) to eval(wi, wo), and the sums of the chunks of
-    // walks from wo (empty where there are none).
     // The walks from each wo: per target, the scale from eval(wo, wi) to eval(wi, wo) and the
     // sums of its chunks (none where it has no walks), every (target, chunk) in parallel.
     let jobs: Vec<(usize, usize)> = match toward_wi[0] {
