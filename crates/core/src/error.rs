@@ -111,10 +111,11 @@ pub fn check_walk_gamma(gamma: f64) -> Result<f64, ParamError> {
 }
 
 /// Validates a relative index of refraction: in [[`ETA_MIN`], [`ETA_MAX`]] with
-/// `|eta - 1| >= ETA_NEAR_ONE`.
+/// `|eta - 1| >= ETA_NEAR_ONE`, the distance taken as the decimal values a user writes have it
+/// (`1.005 - 1` is 0.005 less 1.1e-16 in binary, and 1.005 is accepted).
 pub fn check_eta(eta: f64) -> Result<f64, ParamError> {
     let eta = finite("eta", eta)?;
-    if (ETA_MIN..=ETA_MAX).contains(&eta) && (eta - 1.0).abs() >= ETA_NEAR_ONE {
+    if (ETA_MIN..=ETA_MAX).contains(&eta) && (eta - 1.0).abs() >= ETA_NEAR_ONE - 1e-12 {
         Ok(eta)
     } else {
         Err(ParamError::Eta(eta))
@@ -141,4 +142,22 @@ pub fn check_conductor(n: f64, k: f64) -> Result<(f64, f64), ParamError> {
         });
     }
     Ok((n, k))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The distance from 1 is that of the decimal values: 1.005 and 0.995 lie on the
+    /// documented limit and pass, although `1.005 - 1` is below 0.005 in binary; values inside
+    /// it fail.
+    #[test]
+    fn eta_at_the_documented_distance_from_one_is_accepted() {
+        for eta in [1.005, 0.995, 1.0051, ETA_MIN, ETA_MAX] {
+            assert_eq!(check_eta(eta), Ok(eta), "{eta}");
+        }
+        for eta in [1.00499, 0.99501, 1.0, 1.004_999_999, ETA_MAX * 1.000_001] {
+            assert_eq!(check_eta(eta), Err(ParamError::Eta(eta)), "{eta}");
+        }
+    }
 }
