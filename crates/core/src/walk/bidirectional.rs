@@ -169,7 +169,7 @@ const FROM_WO: u64 = 0x5bd1_e995_27d4_eb2f;
 
 /// The bidirectional estimate of `f(wi, wo) |wo.z|` for every `wo` in `wos` (module
 /// documentation): `walks` walks from `wi` toward every `wo`, and from each `wo` toward `wi`
-/// `fraction` as many (at least one per chunk), seeded by `seed` and `wo`.
+/// `fraction` as many (at least two per chunk), seeded by `seed` and `wo`.
 ///
 /// The walks from `wo` follow the chunks of those from `wi`: chunk `c` has `fraction` times
 /// the walks of chunk `c` from `wi`, and its own random numbers. Batch `c` of the result is
@@ -264,13 +264,13 @@ pub(crate) fn eval_many<N: Ndf, F: Facet>(
 }
 
 /// One quantity's sums over chunk `chunk` of walks from `wo`: `fraction` times the `len` walks
-/// of the matching chunk from `wi` (at least one; [`super::walks_from_each_wo`] counts them),
-/// with the chunk's own stream from `seed`.
+/// of the matching chunk from `wi`, at least two (`walks_like`; [`super::walks_from_each_wo`]
+/// counts them), with the chunk's own stream from `seed`.
 fn chunk_like<Wk>(len: u64, fraction: f64, seed: u64, chunk: usize, walk: Wk) -> Sums
 where
     Wk: Fn(&mut rand_pcg::Pcg64, &mut [f64]),
 {
-    let walks = ((len as f64 * fraction).round() as u64).max(1);
+    let walks = super::estimate::walks_like(len, fraction);
     let mut rng = chunk_rng(seed, chunk as u64);
     let mut sums = Sums::default();
     let mut acc = [0.0];

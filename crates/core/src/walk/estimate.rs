@@ -300,7 +300,7 @@ pub fn eval_pairs_with_progress(
 }
 
 /// The walks that [`Estimator::eval_many_batched`] with `walks` walks from `wi` runs from
-/// each `wo`: [`Estimator::walks_from_wo`] times as many per chunk, at least one per chunk.
+/// each `wo`: [`Estimator::walks_from_wo`] times as many per chunk, at least two per chunk.
 pub fn walks_from_each_wo(estimator: &dyn Estimator, walks: u64) -> u64 {
     let fraction = estimator.walks_from_wo();
     if fraction == 0.0 {
@@ -308,8 +308,15 @@ pub fn walks_from_each_wo(estimator: &dyn Estimator, walks: u64) -> u64 {
     }
     chunk_walks(walks)
         .iter()
-        .map(|&n| ((n as f64 * fraction).round() as u64).max(1))
+        .map(|&n| walks_like(n, fraction))
         .sum()
+}
+
+/// The walks from a `wo` that match a chunk of `len` walks from `wi`: `fraction` times as
+/// many, rounded, and at least two, so that every chunk's variance (and the estimate's
+/// standard error) is defined.
+pub(crate) fn walks_like(len: u64, fraction: f64) -> u64 {
+    ((len as f64 * fraction).round() as u64).max(2)
 }
 
 /// The distinct incident directions of `pairs` (bit for bit, `-0.0` as `0.0`), in order of
