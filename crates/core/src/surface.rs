@@ -577,9 +577,14 @@ fn with_facet<F: Facet + 'static>(
         facet: F,
         orders: ScatteringOrders,
     ) -> Result<Box<dyn Estimator>, SurfaceError> {
-        let walk = NullMicrosurface::new(ndf, facet).map_err(|e| SurfaceError::Param {
-            param: "gamma",
-            source: e,
+        // The majorant is infinite for a Student-T gamma below 2, too large for a small alpha
+        // (vmf's kappa range keeps its peak below the limit).
+        let walk = NullMicrosurface::new(ndf, facet).map_err(|e| {
+            let param = match e {
+                ParamError::OutOfRange { value, .. } if value.is_finite() => "alpha",
+                _ => "gamma",
+            };
+            SurfaceError::Param { param, source: e }
         })?;
         Ok(Box::new(walk.with_orders(orders)))
     }
