@@ -125,6 +125,51 @@ fn parameters_outside_their_range_are_usage_errors_naming_the_range() {
             surface(&["--ndf", "ggx", "--alpha", "1e300", "--eta", "1.5"]),
             "[1e-8, 100]",
         ),
+        // Walk counts: refused before anything is allocated for them.
+        (
+            vec![
+                "albedo",
+                "--theta-i",
+                "30",
+                "--ndf",
+                "ggx",
+                "--alpha",
+                "0.3",
+                "--eta",
+                "1.5",
+                "--walks",
+                "10000000000000",
+            ],
+            "[1, 1e9]",
+        ),
+        (
+            vec![
+                "eval",
+                "--ndf",
+                "ggx",
+                "--alpha",
+                "0.3",
+                "--eta",
+                "1.5",
+                "--orders",
+                "all",
+                "--walks",
+                "1000000001",
+            ],
+            "[1, 1e9]",
+        ),
+        (
+            vec![d, "--orders", "all", "--walks", "18446744073709551615"],
+            "[1, 1e9]",
+        ),
+        (vec![d, "--orders", "all", "--walks", "1"], "at least 2"),
+        // The null walk's tentative collisions grow with D's peak.
+        (
+            surface(&[
+                "--ndf", "beckmann", "--alpha", "1e-4", "--eta", "1.5", "--walk", "null",
+            ]),
+            "1e4",
+        ),
     ];
     for (args, range) in cases {
         let err = stfit(&args).fails_with(2).to_string();
@@ -287,6 +332,22 @@ fn a_single_walk_has_no_standard_error() {
     assert!(row.ends_with(','), "{row}");
     let two = stfit_in(&[&args[..], &["--walks", "2"]].concat(), pairs);
     assert!(!two.ok().lines().nth(1).unwrap().ends_with(','));
+    // A few walks from wi give a few from each wo too, never one: a non-zero estimate
+    // carries a non-zero standard error.
+    let oblique = "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0.6,0,-0.8\n";
+    for walks in ["2", "3", "5"] {
+        let run = stfit_in(
+            &[
+                "eval", "--ndf", "ggx", "--alpha", "0.3", "--eta", "1.5", "--orders", "multiple",
+                "--walks", walks,
+            ],
+            oblique,
+        );
+        let row = run.ok().lines().nth(1).unwrap().to_string();
+        let fields: Vec<f64> = row.split(',').map(|f| f.parse().unwrap()).collect();
+        let (value, stderr) = (fields[6], fields[7]);
+        assert!(value == 0.0 || stderr > 0.0, "walks {walks}: {row}");
+    }
     let json = stfit(&[
         "albedo",
         "--ndf",

@@ -5,7 +5,9 @@ use super::surface::{SurfaceArgs, flags};
 use super::{CmdResult, OrdersArg, Retired, long_run, print_stdout, usage};
 use stfit_core::Vec3;
 use stfit_core::math::radians;
-use stfit_core::walk::{AlbedoEstimate, DEFAULT_ALBEDO_WALKS, Estimator, defined_stderr};
+use stfit_core::walk::{
+    AlbedoEstimate, DEFAULT_ALBEDO_WALKS, Estimator, check_walks, defined_stderr,
+};
 
 /// Arguments of `stfit albedo`.
 #[derive(Debug, clap::Args)]
@@ -41,9 +43,7 @@ pub fn run(args: &Args) -> CmdResult {
             "--theta-i must be in [0, 180] and not 90, got {theta}"
         )));
     }
-    if args.walks == 0 {
-        return Err(usage("--walks must be at least 1"));
-    }
+    check_walks(args.walks).map_err(|e| usage(format!("--walks: {e}")))?;
     let t = radians(theta);
     let wi = Vec3::new(-t.sin(), 0.0, t.cos());
     let walk = args

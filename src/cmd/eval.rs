@@ -15,7 +15,7 @@ use std::path::Path;
 use stfit_core::bsdf::AnalyticBsdf;
 use stfit_core::surface::Evaluation;
 use stfit_core::walk::{
-    DEFAULT_EVAL_WALKS, defined_stderr, distinct_incidences, eval_pairs_with_progress,
+    DEFAULT_EVAL_WALKS, check_walks, defined_stderr, distinct_incidences, eval_pairs_with_progress,
     walks_from_each_wo,
 };
 use stfit_fit::pairs::read_pairs;
@@ -52,9 +52,7 @@ pub struct Args {
 /// 2); bad input is a failure (1), and then nothing is written.
 pub fn run(args: &Args) -> CmdResult {
     args.retired.check()?;
-    if args.walks == 0 {
-        return Err(usage("--walks must be at least 1"));
-    }
+    check_walks(args.walks).map_err(|e| usage(format!("--walks: {e}")))?;
     let evaluation = args
         .surface
         .surface()?

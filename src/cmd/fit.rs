@@ -194,8 +194,9 @@ impl FitOptionArgs {
                  single or all",
             ));
         }
-        if orders == ScatteringOrders::All && self.walks == 0 {
-            return Err(usage("--walks must be a positive number of walks, got 0"));
+        if orders == ScatteringOrders::All {
+            stfit_fit::options::check_fit_walks(self.walks)
+                .map_err(|e| usage(format!("--walks: {e}")))?;
         }
         let opts = FitOptions {
             eta: parameter("--eta", &self.eta, |e| {

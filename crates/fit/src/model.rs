@@ -308,9 +308,12 @@ impl Model {
             (ScatteringOrders::Single, _, _) => Err(FitError::InvalidSpec(
                 "walks and seed apply only to orders all".into(),
             )),
-            (_, Some(w), Some(_)) if w > 0 => Ok(()),
+            (_, Some(w), Some(_)) => {
+                stfit_core::walk::check_walks(w)?;
+                Ok(())
+            }
             _ => Err(FitError::InvalidSpec(
-                "orders all need walks (> 0) and a seed".into(),
+                "orders all need walks and a seed".into(),
             )),
         }
     }

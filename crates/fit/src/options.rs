@@ -199,13 +199,27 @@ impl FitOptions {
             )));
         }
         check_orders(self.orders, self.masking)?;
-        if self.orders == ScatteringOrders::All && self.walks == 0 {
-            return Err(FitError::InvalidSpec(
-                "orders all need at least one random walk per incident direction".into(),
-            ));
+        if self.orders == ScatteringOrders::All {
+            check_fit_walks(self.walks)?;
         }
         Ok(())
     }
+}
+
+/// Validates the walks per incident direction of an all-orders fit: in `[2, MAX_WALKS]`
+/// ([`stfit_core::walk::MAX_WALKS`]). The fit's standard errors include the walk term's Monte
+/// Carlo error, which the walks' own scatter estimates: one walk has none to show.
+pub fn check_fit_walks(walks: u64) -> Result<u64, FitError> {
+    let walks =
+        stfit_core::walk::check_walks(walks).map_err(|e| FitError::InvalidSpec(e.to_string()))?;
+    if walks < 2 {
+        return Err(FitError::InvalidSpec(
+            "an all-orders fit needs at least 2 walks per incident direction: its standard \
+             errors include the walk term's, which one walk cannot estimate"
+                .into(),
+        ));
+    }
+    Ok(walks)
 }
 
 /// The orders a model of measurements can have, single or all, with a masking they allow.

@@ -116,6 +116,13 @@ fn invalid_points_and_options_are_rejected() {
     let all = FitOptions::with_orders(ScatteringOrders::All);
     for bad in [
         FitOptions { walks: 0, ..all },
+        // One walk cannot estimate the term's Monte Carlo error; more than 10^9 are refused
+        // before anything is allocated for them.
+        FitOptions { walks: 1, ..all },
+        FitOptions {
+            walks: u64::MAX,
+            ..all
+        },
         // Orders >= 2 only model no measurement.
         FitOptions {
             orders: ScatteringOrders::Multiple,

@@ -79,7 +79,25 @@ pub use facet::{
     LambertianFacet, VisibleNormals,
 };
 pub use microsurface::Microsurface;
-pub use null::{NullHit, NullMicrosurface};
+pub use null::{MAX_NULL_MAJORANT, NullHit, NullMicrosurface};
+
+/// Largest number of walks of one estimate (per incident direction, per table cell): 10^9
+/// walks take minutes to hours, and the run's per-chunk results stay small.
+pub const MAX_WALKS: u64 = 1_000_000_000;
+
+/// Validates a number of walks of one estimate: in `[1, MAX_WALKS]`. (With one walk the
+/// estimate has no standard error: see [`defined_stderr`].)
+pub fn check_walks(walks: u64) -> Result<u64, crate::ParamError> {
+    if (1..=MAX_WALKS).contains(&walks) {
+        Ok(walks)
+    } else {
+        Err(crate::ParamError::OutOfRange {
+            name: "walks",
+            value: walks as f64,
+            expected: "in [1, 1e9]",
+        })
+    }
+}
 
 /// Walks from each direction `wo` per walk from `wi` in the batch estimates of a
 /// [`Microsurface`] ([`Estimator`]; see [`Microsurface::with_walks_from_wo`]).
@@ -216,6 +234,22 @@ impl ScatteringOrders {
         match self {
             Self::Single => 1,
             Self::Multiple | Self::All => u32::MAX,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Walk counts are refused outside `[1, MAX_WALKS]`, before any run allocates for them.
+    #[test]
+    fn walk_counts_outside_the_range_are_refused() {
+        for walks in [1, 20_000, MAX_WALKS] {
+            assert_eq!(check_walks(walks), Ok(walks));
+        }
+        for walks in [0, MAX_WALKS + 1, u64::MAX] {
+            assert!(check_walks(walks).is_err(), "{walks}");
         }
     }
 }
