@@ -176,3 +176,33 @@ fn bad_values_and_bad_files_are_refused_with_the_right_exit_code() {
         .to_string();
     assert!(err.contains("no fit matches"), "{err}");
 }
+
+/// A pane needs random walks, which a Student-T shape below 1.501 would make endless (a
+/// single-scattering fit may have one): the pane export of such a fit is refused as bad data,
+/// naming the file and the walk's range, instead of running without end.
+#[test]
+fn a_pane_of_a_gamma_below_the_walk_range_is_refused() {
+    let dir = CaseDir::new("export-pane-gamma");
+    let text = std::fs::read_to_string(project_root().join("fits/example-fits.json")).unwrap();
+    let mut file = FitsFile::from_json("example", &text).unwrap();
+    file.fits
+        .retain(|f| f.sample == "ground" && f.model.kind.name() == "student-t");
+    file.fits.truncate(1);
+    file.fits[0].model.gamma = stfit_fit::Gamma::Free(1.5000001);
+    let path = dir.file("g.json", file.to_json());
+    let err = cli()
+        .run(&[
+            "export",
+            path.to_str().unwrap(),
+            "--to",
+            "radiance",
+            "--walks",
+            "1",
+        ])
+        .fails_with(1)
+        .to_string();
+    assert!(
+        err.contains("g.json") && err.contains("gamma >= 1.501"),
+        "{err}"
+    );
+}
