@@ -157,6 +157,13 @@ pub enum LoadErrorKind {
     /// A pab-opto header line after the first data line.
     #[error("a header line after the data; every '#' line must come first")]
     HeaderAfterData,
+    /// A pab-opto header line whose key an earlier line already gave.
+    #[error("given again; line {first} gave it already, and each header line may appear once")]
+    RepeatedHeader { first: u64 },
+    /// A pab-opto incident angle that two header lines give differently (`#intheta` and
+    /// `#incident_angle`): `other` is the earlier line's key and angle, e.g. `#intheta 60`.
+    #[error("disagrees with '{other}' on line {other_line}")]
+    IncidenceConflict { other: String, other_line: u64 },
     /// A pab-opto sample name without its double quotes.
     #[error("the sample name must be in double quotes")]
     Unquoted,
