@@ -134,6 +134,21 @@ fn infinite_value() {
     expect_error(&big, &[], Some(3), Some("sqrt_L"), "not a finite number");
 }
 
+/// A finite `sqrt_L` whose square `L` overflows is refused on reading, at its line and column
+/// (the fit used to fail on an infinite `L` at a 0-based "point" without a line).
+#[test]
+fn sqrt_l_whose_square_overflows() {
+    let dir = CaseDir::new("sqrt-overflow");
+    let path = data(&dir, "a,30,170,1e200\n");
+    expect_error(
+        &path,
+        &[],
+        Some(3),
+        Some("sqrt_L"),
+        "1e200 is too large: L = sqrt_L^2 overflows",
+    );
+}
+
 #[test]
 fn negative_values() {
     let dir = CaseDir::new("negative");

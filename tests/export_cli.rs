@@ -176,3 +176,117 @@ fn bad_values_and_bad_files_are_refused_with_the_right_exit_code() {
         .to_string();
     assert!(err.contains("no fit matches"), "{err}");
 }
+
+/// A pane needs random walks, which a Student-T shape below 1.501 would make endless (a
+/// single-scattering fit may have one): the pane export of such a fit is refused as bad data,
+/// naming the file and the walk's range, instead of running without end.
+#[test]
+fn a_pane_of_a_gamma_below_the_walk_range_is_refused() {
+    let dir = CaseDir::new("export-pane-gamma");
+    let text = std::fs::read_to_string(project_root().join("fits/example-fits.json")).unwrap();
+    let mut file = FitsFile::from_json("example", &text).unwrap();
+    file.fits
+        .retain(|f| f.sample == "ground" && f.model.kind.name() == "student-t");
+    file.fits.truncate(1);
+    file.fits[0].model.gamma = stfit_fit::Gamma::Free(1.5000001);
+    let path = dir.file("g.json", file.to_json());
+    let err = cli()
+        .run(&[
+            "export",
+            path.to_str().unwrap(),
+            "--to",
+            "radiance",
+            "--walks",
+            "1",
+        ])
+        .fails_with(1)
+        .to_string();
+    assert!(
+        err.contains("g.json") && err.contains("gamma >= 1.501"),
+        "{err}"
+    );
+}
+
+/// The example fits with the first fit's `from` replaced by `to` (once), written into `dir`.
+fn edited_fits(dir: &CaseDir, name: &str, from: &str, to: &str) -> std::path::PathBuf {
+    let text = std::fs::read_to_string(project_root().join("fits/example-fits.json")).unwrap();
+    assert!(text.contains(from), "{from}");
+    dir.file(name, text.replacen(from, to, 1))
+}
+
+/// Stored numbers outside their documented ranges (an eta that is no glass of a fit, a
+/// negative rmse or standard error) are refused as bad data, naming the file, the fit and the
+/// key; a leading byte order mark is read.
+#[test]
+fn stored_numbers_outside_their_ranges_are_refused_and_a_bom_is_read() {
+    let dir = CaseDir::new("export-ranges");
+    for (from, to, key) in [
+        ("\"eta\": 1.51", "\"eta\": 10.0", "eta"),
+        ("\"eta\": 1.51", "\"eta\": 0.5", "eta"),
+        ("\"rmse_sqrt_l\": 0.", "\"rmse_sqrt_l\": -0.", "rmse_sqrt_l"),
+        (
+            "\"alpha_stderr\": 0.",
+            "\"alpha_stderr\": -0.",
+            "alpha_stderr",
+        ),
+    ] {
+        let path = edited_fits(&dir, "bad.json", from, to);
+        let err = cli()
+            .run(&["export", path.to_str().unwrap(), "--to", "pbrt-v4"])
+            .fails_with(1)
+            .to_string();
+        assert!(
+            err.contains("bad.json: fit 0 (sample 'frosted', beckmann)") && err.contains(key),
+            "{to}: {err}"
+        );
+    }
+    let path = edited_fits(&dir, "bom.json", "{", "\u{feff}{");
+    let text = cli()
+        .run(&[
+            "export",
+            path.to_str().unwrap(),
+            "--to",
+            "pbrt-v4",
+            "--sample",
+            "ground",
+            "--model",
+            "ggx",
+        ])
+        .ok()
+        .to_string();
+    assert!(text.contains("Material"), "{text}");
+}
+
+/// Samples `a b` and `a_b` would both write `a_b_ggx-pbrt-v4.pbrt`: refused with exit 1 naming
+/// both fits, and nothing is written.
+#[test]
+fn fits_that_would_share_a_file_name_are_refused() {
+    let dir = CaseDir::new("export-collide");
+    let text = std::fs::read_to_string(project_root().join("fits/example-fits.json")).unwrap();
+    let mut file = FitsFile::from_json("example", &text).unwrap();
+    file.fits.retain(|f| f.model.kind.name() == "ggx");
+    file.fits.truncate(2);
+    file.fits[0].sample = "a b".into();
+    file.fits[1].sample = "a_b".into();
+    let path = dir.file("collide.json", file.to_json());
+    let out = dir.join("out");
+    std::fs::create_dir(&out).unwrap();
+    let err = cli()
+        .run(&[
+            "export",
+            path.to_str().unwrap(),
+            "--to",
+            "pbrt-v4",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .fails_with(1)
+        .to_string();
+    assert!(
+        err.contains("collide.json")
+            && err.contains("sample 'a b', ggx")
+            && err.contains("sample 'a_b', ggx"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0);
+}

@@ -173,7 +173,7 @@ fn pabopto_folders_fit_back_and_report() {
 #[test]
 fn malformed_general_and_pabopto_files_name_file_and_line() {
     let dir = CaseDir::new("general-bad");
-    let cases: [(&str, &str, &str); 6] = [
+    let cases: [(&str, &str, &str); 11] = [
         (
             "theta90.csv",
             "theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,bsdf\n0,0,170,0,1\n0,0,90,0,1\n",
@@ -203,6 +203,32 @@ fn malformed_general_and_pabopto_files_name_file_and_line() {
             "sides.txt",
             "#format: theta phi BSDF\n#intheta 0\n#inphi 0\n10 0 1\n170 0 1\n",
             "sides.txt:5:",
+        ),
+        (
+            "twice.txt",
+            "#format: theta phi BSDF\n#intheta 30\n#inphi 0\n#intheta 60\n10 0 1\n",
+            "twice.txt:4: column '#intheta': given again; line 2 gave it already",
+        ),
+        (
+            "conflict.txt",
+            "#format: theta phi BSDF\n#intheta 60\n#inphi 0\n#incident_angle 30 0\n10 0 1\n",
+            "conflict.txt:4: column '#incident_angle': disagrees with '#intheta 60' on line 2",
+        ),
+        (
+            "unnamed.txt",
+            "#sample_name \"\"\n#format: theta phi BSDF\n#intheta 0\n#inphi 0\n10 0 1\n",
+            "unnamed.txt:1: column '#sample_name': empty sample name",
+        ),
+        (
+            "xyz.txt",
+            "#format: theta phi BSDF\n#intheta 0\n#inphi 0\n#colorimetry: CIE-XYZ\n\
+             10 0 -5 1 1\n",
+            "xyz.txt:5: column 'X': -5 is negative",
+        ),
+        (
+            "grazing.txt",
+            "#format: theta phi DSF\n#intheta 30\n#inphi 0\n150 0 1\n90.0000000001 0 1e300\n",
+            "grazing.txt:5: column 'value': 1e300 is too large",
         ),
     ];
     for (name, text, needle) in cases {

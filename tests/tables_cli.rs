@@ -189,6 +189,86 @@ fn bad_shard_files_fail_with_exit_1_naming_the_file() {
 }
 
 #[test]
+fn shard_values_and_axes_are_checked_at_the_merge() {
+    let dir = CaseDir::new("edited-shards");
+    let shard = file(&dir, "s.json");
+    run_ok(
+        &[
+            "tables",
+            "--ndf",
+            "ggx",
+            "--alpha-grid",
+            "0.1:0.5:3",
+            "--mu-grid",
+            "1",
+            "--eta-grid",
+            "1.5",
+            "--orders",
+            "all",
+            "--walks",
+            "100",
+            "--shard",
+            "1/1",
+            "--out",
+            &shard,
+        ]
+        .map(String::from),
+    );
+    let text = std::fs::read_to_string(&shard).unwrap();
+    // Replaces the number after the first `key`.
+    let edit = |key: &str, value: &str| {
+        let start = text.find(key).unwrap() + key.len();
+        let end = start + text[start..].find([',', '}']).unwrap();
+        format!("{}{value}{}", &text[..start], &text[end..])
+    };
+    let out = file(&dir, "m.csv");
+    for (name, edited, message) in [
+        (
+            "negative.json",
+            edit("\"single\":{\"reflected\":", "-5.0"),
+            "line 0, cell 0 (mu 1): single.reflected (R_ss) = -5 is not in [0, 1] (tolerance 1e-5)",
+        ),
+        (
+            "huge.json",
+            edit("\"stderr\":", "1e300"),
+            "walk.reflected.stderr (R_all_stderr) = 1e300 is not in [0, 1]",
+        ),
+        (
+            "relabelled.json",
+            text.replace(
+                "\"values\":[0.1,0.30000000000000004,0.5]",
+                "\"values\":[0.1,0.2,0.5]",
+            ),
+            "alpha axis values [0.1, 0.2, 0.5] are not what lin gives at the parameters",
+        ),
+    ] {
+        assert_ne!(edited, text, "{name}");
+        let path = dir.file(name, edited).display().to_string();
+        let err = stfit_fails(&["tables", "merge", "--out", &out, &path], 1);
+        assert!(err.contains(&path) && err.contains(message), "{err}");
+    }
+    assert!(!std::path::Path::new(&out).exists());
+}
+
+#[test]
+fn the_cycles_layout_of_a_dielectric_is_refused_with_walks_before_any_work() {
+    let dir = CaseDir::new("cycles-walks");
+    let out = file(&dir, "t.csv");
+    let err = stfit_fails(
+        &[
+            "tables", "--ndf", "ggx", "--layout", "cycles", "--orders", "all", "--out", &out,
+        ],
+        2,
+    );
+    assert!(
+        err.contains("--layout cycles for a dielectric is for --orders single only")
+            && err.contains("differ from 1 by at least 0.005"),
+        "{err}"
+    );
+    assert!(!std::path::Path::new(&out).exists());
+}
+
+#[test]
 fn the_cycles_layout_writes_cycles_arrays() {
     let dir = CaseDir::new("cycles");
     let h = file(&dir, "ggx.h");
@@ -263,6 +343,23 @@ fn invalid_options_exit_with_status_2() {
         (vec!["--surface", "conductor"], "--eta-grid applies only"),
         (vec!["--n", "0.2"], "--n and --k apply only"),
         (vec!["--orders", "all", "--walks", "0"], "walks per cell"),
+        (
+            vec!["--alpha-grid", "0.5:0.5:3"],
+            "COUNT 3 needs START < END",
+        ),
+        (
+            vec!["--alpha-grid", "0.3,0.3"],
+            "strictly increasing, got 0.3 then 0.3",
+        ),
+        (
+            vec!["--mu-grid", "1,0.5"],
+            "strictly increasing, got 1 then 0.5",
+        ),
+        (vec!["--alpha-grid", "sq:-2:1:3"], "sq needs START >= 0"),
+        (
+            vec!["--eta-grid", "1.0000000001", "--orders", "all"],
+            "eta axis value 1.0000000001 cannot be walked",
+        ),
     ];
     for (extra, message) in cases {
         let mut args: Vec<&str> = base.to_vec();

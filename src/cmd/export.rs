@@ -152,6 +152,7 @@ pub fn run(args: &Args) -> CmdResult {
             BatchError::OneFilePerFit => usage(
                 "radiance writes one BSDF file per fit: select one fit (--sample, --model) or give --out an existing folder",
             ),
+            e @ BatchError::SamePath { .. } => usage(format!("--out: {e}")),
             e => failed(format!("{}: {e}", args.fits.display())),
         })?;
     for FitExport { id, export } in &batch.exports {

@@ -39,7 +39,7 @@ pub struct TableArgs {
     #[arg(long, value_enum, required = true)]
     pub ndf: Option<NdfArg>,
     /// Roughness axis: START:END:COUNT, MAP:START:END:COUNT (MAP lin, log, sq: alpha = x^2)
-    /// or a list v1,v2,...; alpha in [1e-8, 4].
+    /// or a list v1,v2,..., strictly increasing; alpha in [1e-8, 4].
     #[arg(long)]
     pub alpha_grid: Option<Axis>,
     /// Student-T shape axis (student-t only), as --alpha-grid; gamma in [1.6, 40].
@@ -49,7 +49,8 @@ pub struct TableArgs {
     #[arg(long)]
     pub mu_grid: Option<Axis>,
     /// Relative index n_inside / n_outside (dielectric only), as --alpha-grid (MAP may also be
-    /// cycles-ior: eta = (1 + x^2) / (1 - x^2)); eta in (1, 100].
+    /// cycles-ior: eta = (1 + x^2) / (1 - x^2)); eta in (1, 100], |eta - 1| >= 0.005 with
+    /// --orders multiple or all (random walks).
     #[arg(long)]
     pub eta_grid: Option<Axis>,
     /// Side of the light: outside (from the air), inside (from the glass), or both (the
@@ -75,7 +76,8 @@ pub struct TableArgs {
     #[arg(long, value_enum, default_value_t = MaskingArg::Correlated)]
     pub masking: MaskingArg,
     /// Use exactly the nodes of Blender Cycles' tables instead of the grid options: 16^3
-    /// ggx_glass_E / ggx_glass_inv_E nodes for a dielectric, 32^2 ggx_E nodes otherwise.
+    /// ggx_glass_E / ggx_glass_inv_E nodes for a dielectric (--orders single only: a node has
+    /// eta = 1 + 2e-8), 32^2 ggx_E nodes otherwise.
     #[arg(long, value_enum)]
     pub layout: Option<LayoutArg>,
     /// Output format (default: from the extension of --out: .npy, .h/.c for C, else CSV).

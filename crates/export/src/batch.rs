@@ -58,6 +58,27 @@ pub enum BatchError {
         "radiance writes one BSDF file per fit: select one fit (by sample and model) or write into an existing folder"
     )]
     OneFilePerFit,
+    /// Two selected fits have the same identifier ([`fit_identifier`]): their files, or their
+    /// materials in one file, would overwrite each other. `first` and `second` are the fits'
+    /// [`FitResult::label`]s.
+    #[error(
+        "{first} and {second} both export as '{id}' (every character outside [A-Za-z0-9] becomes '_'): rename a sample or select one of them (by sample and model)"
+    )]
+    SameName {
+        first: String,
+        second: String,
+        id: String,
+    },
+    /// One file destination whose name has the extension of a file type other than the first,
+    /// which goes beside it with that extension: both would be written to `path`.
+    #[error(
+        "the {first} file and the {other} file would both be written to {path}: give a file name ending in .{first} (the {other} file goes beside it)"
+    )]
+    SamePath {
+        path: String,
+        first: &'static str,
+        other: &'static str,
+    },
     /// The export of one fit failed; `label` is the fit's [`FitResult::label`].
     #[error("{label}: {error}")]
     Fit { label: String, error: ExportError },
@@ -65,8 +86,10 @@ pub enum BatchError {
 
 /// Exports every fit of `fits` that `selection` matches to `target` (`radiance`: the options
 /// of [`Target::Radiance`], ignored by the other targets) and lays out the texts for `dest`.
-/// Fails before exporting anything when no fit matches or when Radiance would need several
-/// files in one.
+/// Fails before exporting anything when no fit matches, when Radiance would need several
+/// files in one, or when two fits have the same identifier ([`BatchError::SameName`]); fails
+/// before writing anything when two files of one destination would have the same path
+/// ([`BatchError::SamePath`]).
 pub fn export_fits(
     fits: &[FitResult],
     selection: &Selection,
@@ -81,6 +104,7 @@ pub fn export_fits(
     if target == Target::Radiance && selected.len() > 1 && !matches!(dest, Destination::Folder(_)) {
         return Err(BatchError::OneFilePerFit);
     }
+    distinct_identifiers(&selected)?;
     let exports = selected
         .into_iter()
         .map(|fit| {
@@ -94,14 +118,34 @@ pub fn export_fits(
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let outputs = outputs(&exports, target, dest);
+    let outputs = outputs(&exports, target, dest)?;
     Ok(Batch { exports, outputs })
 }
 
-/// The texts of `exports` laid out for `dest` ([`Destination`]).
-fn outputs(exports: &[FitExport], target: Target, dest: Destination<'_>) -> Vec<Output> {
+/// Refuses two fits with the same identifier ([`BatchError::SameName`]).
+fn distinct_identifiers(fits: &[&FitResult]) -> Result<(), BatchError> {
+    for (k, fit) in fits.iter().enumerate() {
+        let id = fit_identifier(fit);
+        if let Some(first) = fits[..k].iter().find(|f| fit_identifier(f) == id) {
+            return Err(BatchError::SameName {
+                first: first.label(),
+                second: fit.label(),
+                id,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The texts of `exports` laid out for `dest` ([`Destination`]); refuses a file destination
+/// that would receive two file types ([`BatchError::SamePath`]).
+fn outputs(
+    exports: &[FitExport],
+    target: Target,
+    dest: Destination<'_>,
+) -> Result<Vec<Output>, BatchError> {
     let joined = || join(&exports.iter().map(|e| e.export.clone()).collect::<Vec<_>>());
-    match dest {
+    Ok(match dest {
         Destination::Stdout => vec![Output {
             path: None,
             text: joined()
@@ -110,18 +154,32 @@ fn outputs(exports: &[FitExport], target: Target, dest: Destination<'_>) -> Vec<
                 .collect::<Vec<_>>()
                 .join("\n"),
         }],
-        Destination::File(out) => joined()
-            .into_iter()
-            .enumerate()
-            .map(|(k, f)| Output {
-                path: Some(if k == 0 {
-                    out.to_path_buf()
-                } else {
-                    out.with_extension(f.extension)
-                }),
-                text: f.text,
-            })
-            .collect(),
+        Destination::File(out) => {
+            let files = joined();
+            if let Some(f) = files
+                .iter()
+                .skip(1)
+                .find(|f| out.with_extension(f.extension) == out)
+            {
+                return Err(BatchError::SamePath {
+                    path: out.display().to_string(),
+                    first: files[0].extension,
+                    other: f.extension,
+                });
+            }
+            files
+                .into_iter()
+                .enumerate()
+                .map(|(k, f)| Output {
+                    path: Some(if k == 0 {
+                        out.to_path_buf()
+                    } else {
+                        out.with_extension(f.extension)
+                    }),
+                    text: f.text,
+                })
+                .collect()
+        }
         Destination::Folder(dir) => exports
             .iter()
             .flat_map(|e| {
@@ -131,5 +189,83 @@ fn outputs(exports: &[FitExport], target: Target, dest: Destination<'_>) -> Vec<
                 })
             })
             .collect(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The first fit of the example fits (frosted, Beckmann) as sample `sample`.
+    fn fit(sample: &str) -> FitResult {
+        let text = include_str!("../../../fits/example-fits.json");
+        let mut fit = stfit_fit::FitsFile::from_json("example", text)
+            .unwrap()
+            .fits[0]
+            .clone();
+        fit.sample = sample.into();
+        fit
+    }
+
+    fn export(fits: &[FitResult], dest: Destination<'_>) -> Result<Batch, BatchError> {
+        let all = Selection::default();
+        export_fits(
+            fits,
+            &all,
+            Target::PbrtV4,
+            &RadianceOptions::default(),
+            dest,
+        )
+    }
+
+    /// Samples whose names differ only outside [A-Za-z0-9] would write the same file: refused
+    /// before anything is exported, naming both fits, to a folder and to one file alike.
+    #[test]
+    fn fits_with_the_same_identifier_are_refused() {
+        let fits = [fit("a b"), fit("x"), fit("a_b")];
+        for dest in [Destination::Folder(Path::new("out")), Destination::Stdout] {
+            let e = export(&fits, dest).unwrap_err();
+            assert!(matches!(e, BatchError::SameName { .. }), "{e}");
+            let e = e.to_string();
+            assert!(
+                e.contains("sample 'a b'") && e.contains("sample 'a_b'") && e.contains("'a_b_"),
+                "{e}"
+            );
+        }
+        assert!(export(&fits[..2], Destination::Folder(Path::new("out"))).is_ok());
+    }
+
+    /// Each character outside [A-Za-z0-9] becomes one `_`, whatever its length in UTF-8.
+    #[test]
+    fn identifiers_replace_each_character_once() {
+        assert_eq!(fit_identifier(&fit("Ωμέγα é")), "________beckmann");
+    }
+
+    /// One file named with the extension of a later file type would receive both: refused
+    /// (Mitsuba writes .xml first, then .py beside it).
+    #[test]
+    fn one_file_that_would_receive_two_types_is_refused() {
+        let fits = [fit("s")];
+        let all = Selection::default();
+        let opts = RadianceOptions::default();
+        let mitsuba = |out: &str| {
+            export_fits(
+                &fits,
+                &all,
+                Target::Mitsuba3,
+                &opts,
+                Destination::File(Path::new(out)),
+            )
+        };
+        let e = mitsuba("scene.py").unwrap_err();
+        assert!(matches!(e, BatchError::SamePath { .. }), "{e}");
+        assert!(e.to_string().contains("scene.py"), "{e}");
+        let paths: Vec<_> = mitsuba("scene.xml")
+            .unwrap()
+            .outputs
+            .into_iter()
+            .map(|o| o.path.unwrap())
+            .collect();
+        assert_eq!(paths, [Path::new("scene.xml"), Path::new("scene.py")]);
     }
 }

@@ -3,6 +3,7 @@
 
 use stfit_core::Vec3;
 use stfit_core::bsdf::RoughDielectric;
+use stfit_core::error::check_walk_gamma;
 use stfit_core::ndf::AnyNdf;
 use stfit_core::walk::{DielectricFacet, Microsurface, ScatteringOrders};
 use stfit_fit::data::Quantity;
@@ -105,10 +106,18 @@ impl ExportModel {
     }
 
     /// The microsurface of the model's NDF with dielectric facets (random walk), restricted to
-    /// `orders`.
-    pub fn microsurface(&self, orders: ScatteringOrders) -> Microsurface<AnyNdf, DielectricFacet> {
+    /// `orders`. Refuses a Student-T shape the walk does not support
+    /// ([`check_walk_gamma`]: below 1.501 walks grow without bound), which a single-scattering
+    /// fit may have.
+    pub fn microsurface(
+        &self,
+        orders: ScatteringOrders,
+    ) -> Result<Microsurface<AnyNdf, DielectricFacet>, ExportError> {
+        if let Some(g) = self.gamma() {
+            check_walk_gamma(g)?;
+        }
         let facet = DielectricFacet::new(self.model.eta).expect("the model was checked");
-        Microsurface::new(self.ndf, facet).with_orders(orders)
+        Ok(Microsurface::new(self.ndf, facet).with_orders(orders))
     }
 
     /// The fitted model's value `q_j f(wi_j, wo_j)` at every pair, by the library's forward
@@ -151,5 +160,27 @@ mod tests {
         };
         let e = ExportModel::new(bad, "x").unwrap_err().to_string();
         assert!(e.contains("correlated"), "{e}");
+    }
+
+    /// A single-scattering Student-T fit with gamma in (3/2, 1.501) is exported where no walk is
+    /// needed, but its walks (the pane, Radiance) are refused by the walk's own rule rather than
+    /// run without end.
+    #[test]
+    fn walks_of_a_gamma_below_the_walk_range_are_refused() {
+        let fit = Model::single(ModelKind::StudentT, 0.3, Gamma::Free(1.5000001), 1.0);
+        let model = ExportModel::new(fit, "x").unwrap();
+        let e = model
+            .microsurface(ScatteringOrders::All)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("gamma >= 1.501"), "{e}");
+        let opts = crate::radiance::RadianceOptions {
+            walks_per_patch: 1,
+            ..Default::default()
+        };
+        let e = crate::radiance::klems(&model, &opts)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("gamma >= 1.501"), "{e}");
     }
 }

@@ -220,7 +220,7 @@ fn checkbsdf_reads_exports_and_matches_stfit_albedo() {
         walks_per_patch: 16_384,
         ..Default::default()
     };
-    let layer = Pane::new(RoughFace::all_orders(&model), model.eta(), 0.0).unwrap();
+    let layer = Pane::new(RoughFace::all_orders(&model).unwrap(), model.eta(), 0.0).unwrap();
     let bsdf = check(&rad, &model, &pane, |front, i| {
         walk_albedo(&layer, front, i, 40_000)
     });

@@ -119,6 +119,10 @@ pub enum LoadErrorKind {
     /// A value, `sqrt(L)` or weight field is negative.
     #[error("{0} is negative; must be >= 0")]
     Negative(f64),
+    /// A finite value whose derived quantity is not: `L` of a `sqrt_L`, or the BSDF of a
+    /// pab-opto DSF.
+    #[error("{value:e} is too large: {derived} overflows to infinity")]
+    Overflow { value: f64, derived: &'static str },
     /// An angle outside its range.
     #[error("{value} is out of range; must be in {range}")]
     AngleOutOfRange { value: f64, range: &'static str },
@@ -153,6 +157,13 @@ pub enum LoadErrorKind {
     /// A pab-opto header line after the first data line.
     #[error("a header line after the data; every '#' line must come first")]
     HeaderAfterData,
+    /// A pab-opto header line whose key an earlier line already gave.
+    #[error("given again; line {first} gave it already, and each header line may appear once")]
+    RepeatedHeader { first: u64 },
+    /// A pab-opto incident angle that two header lines give differently (`#intheta` and
+    /// `#incident_angle`): `other` is the earlier line's key and angle, e.g. `#intheta 60`.
+    #[error("disagrees with '{other}' on line {other_line}")]
+    IncidenceConflict { other: String, other_line: u64 },
     /// A pab-opto sample name without its double quotes.
     #[error("the sample name must be in double quotes")]
     Unquoted,
@@ -648,7 +659,8 @@ impl Header {
         })
     }
 
-    /// Validates one data row into its sample name and measurement.
+    /// Validates one data row into its sample name and measurement: every recognised field
+    /// as `data-format.md` says, and a `sqrt_L` whose square `L` overflows refused.
     fn row(
         &self,
         source: &Path,
@@ -708,6 +720,15 @@ impl Header {
                 Role::PhiO => phi_o = x,
                 Role::Value(_) | Role::Weight if x < 0.0 => {
                     return Err(err(column, LoadErrorKind::Negative(x)));
+                }
+                Role::Value(ValueColumn::SqrtL) if !(x * x).is_finite() => {
+                    return Err(err(
+                        column,
+                        LoadErrorKind::Overflow {
+                            value: x,
+                            derived: "L = sqrt_L^2",
+                        },
+                    ));
                 }
                 Role::Value(ValueColumn::SqrtL) => value = x * x,
                 Role::Value(_) => value = x,
@@ -969,6 +990,29 @@ mod tests {
             assert_eq!(column.as_deref(), Some(col), "{row}");
             assert_eq!(kind, want, "{row}");
         }
+    }
+
+    /// A finite `sqrt_L` whose square overflows is refused at its line and column, not passed
+    /// on as an infinite `L`; the largest one whose square is finite is read.
+    #[test]
+    fn sqrt_l_whose_square_overflows_is_refused() {
+        let h = "theta_i_deg,theta_o_deg,sqrt_L\n0,180,1\n";
+        let (line, column, kind) = kind_at(&format!("{h}30,170,1e200\n"));
+        assert_eq!((line, column.as_deref()), (Some(3), Some("sqrt_L")));
+        assert_eq!(
+            kind,
+            LoadErrorKind::Overflow {
+                value: 1e200,
+                derived: "L = sqrt_L^2"
+            }
+        );
+        let e = load(&format!("{h}30,170,1e200\n")).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t.csv:3: column 'sqrt_L': 1e200 is too large: L = sqrt_L^2 overflows to infinity"
+        );
+        let d = load(&format!("{h}30,170,1e154\n")).unwrap();
+        assert_eq!(d.samples[0].points[1].value, 1e154 * 1e154);
     }
 
     #[test]

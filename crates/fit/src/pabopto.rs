@@ -5,7 +5,8 @@
 //!
 //! Header lines understood (others are ignored, as `pabopto2bsdf` does):
 //!
-//! - `#sample_name "NAME"`: the sample (files without one form an unnamed sample);
+//! - `#sample_name "NAME"`: the sample, trimmed and not empty (files without one form an
+//!   unnamed sample);
 //! - `#format: theta phi DSF` or `BSDF` (`BRDF` and `BTDF` are accepted for `BSDF`, case
 //!   ignored): the DSF is the BSDF times `|cos theta_out|`, and is divided by it on reading;
 //! - `#intheta T`, `#inphi P`, or `#incident_angle T P`: the direction toward the light, polar
@@ -14,6 +15,8 @@
 //! - `#colorimetry: CIE-Y` (one value per line, the default) or `CIE-XYZ` (three, of which the
 //!   Y, photometric, value is used).
 //!
+//! Each of these lines may appear once, except that `#intheta` and `#inphi` may come with an
+//! `#incident_angle` that gives the same angles (as Radiance's `pabopto2xyz` writes them).
 //! The front side is stfit's outside (+z), so the angles are those of a general measurement
 //! file (`data-format.md`); every scattered direction of a file lies on one side.
 
@@ -43,15 +46,51 @@ impl PabValue {
     }
 }
 
-/// Header keys that mark a pab-opto file.
-const PAB_KEYS: [&str; 6] = [
-    "format:",
-    "intheta",
-    "inphi",
-    "incident_angle",
-    "sample_name",
-    "colorimetry:",
-];
+/// The header lines of a pab-opto file that this reader understands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Key {
+    SampleName,
+    Format,
+    InTheta,
+    InPhi,
+    IncidentAngle,
+    Colorimetry,
+}
+
+impl Key {
+    const ALL: [Self; 6] = [
+        Self::SampleName,
+        Self::Format,
+        Self::InTheta,
+        Self::InPhi,
+        Self::IncidentAngle,
+        Self::Colorimetry,
+    ];
+
+    /// The word after the `#`.
+    fn word(self) -> &'static str {
+        match self {
+            Self::SampleName => "sample_name",
+            Self::Format => "format:",
+            Self::InTheta => "intheta",
+            Self::InPhi => "inphi",
+            Self::IncidentAngle => "incident_angle",
+            Self::Colorimetry => "colorimetry:",
+        }
+    }
+
+    /// The header line's name in messages: the word with its `#`.
+    fn column(self) -> String {
+        format!("#{}", self.word())
+    }
+
+    /// The key `text` (a header line after its `#` and spaces) starts with, and the rest.
+    fn split(text: &str) -> Option<(Self, &str)> {
+        Self::ALL
+            .into_iter()
+            .find_map(|k| text.strip_prefix(k.word()).map(|rest| (k, rest)))
+    }
+}
 
 /// Whether `bytes` look like a pab-opto file: among the `#` lines that open it, one starts
 /// (after the `#` and any spaces) with a pab-opto header key: `format:`, `intheta`, `inphi`,
@@ -60,21 +99,161 @@ pub fn is_pabopto(bytes: &[u8]) -> bool {
     let text = String::from_utf8_lossy(bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes));
     text.lines()
         .take_while(|l| l.starts_with('#') || l.trim().is_empty())
-        .any(|l| {
-            let key = l[1.min(l.len())..].trim_start();
-            PAB_KEYS.iter().any(|k| key.starts_with(k))
-        })
+        .any(|l| Key::split(l[1.min(l.len())..].trim_start()).is_some())
 }
 
-/// Reads one pab-opto file: its sample name (empty when the file has none) and its points, as
-/// general measurements of the BSDF. Every problem names the file, the line and the field.
-pub fn read_pabopto(source: &Path, bytes: &[u8]) -> Result<(String, Vec<Measurement>), LoadError> {
-    let err = |line: usize, column: &str, kind| LoadError {
+/// An error of the pab-opto file `source` at its 1-based `line`, in the field `column`.
+fn error(source: &Path, line: usize, column: &str, kind: LoadErrorKind) -> LoadError {
+    LoadError {
         file: source.to_path_buf(),
         line: Some(line as u64),
         column: Some(column.to_owned()),
         kind,
-    };
+    }
+}
+
+/// An incident angle and the header line that gave it.
+#[derive(Debug, Clone, Copy)]
+struct Given {
+    value: f64,
+    key: Key,
+    line: usize,
+}
+
+/// The header of a pab-opto file as far as it has been read.
+#[derive(Debug, Default)]
+struct Header {
+    name: Option<String>,
+    form: Option<PabValue>,
+    theta_i: Option<Given>,
+    phi_i: Option<Given>,
+    /// The names of a data line's value fields: `value` (CIE-Y) or `X`, `Y`, `Z` (CIE-XYZ).
+    values: Option<&'static [&'static str]>,
+    /// The line of every key met so far.
+    seen: Vec<(Key, usize)>,
+}
+
+impl Header {
+    /// Reads header line `n`, `text` being what follows its `#` and spaces. Lines of other
+    /// keys are ignored. Refused: a key met before, and an incident angle that another key
+    /// gave otherwise (`#intheta 60` with `#incident_angle 30 0`); the same angle given both
+    /// ways alike, as Radiance's `pabopto2xyz` writes it, is read.
+    fn read(&mut self, source: &Path, n: usize, text: &str) -> Result<(), LoadError> {
+        let Some((key, rest)) = Key::split(text) else {
+            return Ok(());
+        };
+        let err = |kind| error(source, n, &key.column(), kind);
+        if let Some(&(_, first)) = self.seen.iter().find(|(k, _)| *k == key) {
+            return Err(err(LoadErrorKind::RepeatedHeader {
+                first: first as u64,
+            }));
+        }
+        self.seen.push((key, n));
+        let given = |s: &str| {
+            parse_finite(s)
+                .map(|value| Given {
+                    value,
+                    key,
+                    line: n,
+                })
+                .map_err(err)
+        };
+        match key {
+            Key::SampleName => self.name = Some(sample_name(rest).map_err(err)?),
+            Key::Format => self.form = Some(value_form(rest).map_err(err)?),
+            Key::Colorimetry => self.values = Some(colorimetry(rest).map_err(err)?),
+            Key::InTheta => give(source, &mut self.theta_i, given(rest.trim())?)?,
+            Key::InPhi => give(source, &mut self.phi_i, given(rest.trim())?)?,
+            Key::IncidentAngle => {
+                let words: Vec<&str> = rest.split_whitespace().collect();
+                let [t, p] = words.as_slice() else {
+                    return Err(err(LoadErrorKind::Fields {
+                        expected: 2,
+                        found: words.len(),
+                    }));
+                };
+                let (t, p) = (given(t)?, given(p)?);
+                give(source, &mut self.theta_i, t)?;
+                give(source, &mut self.phi_i, p)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The value names of a data line, `value` unless `#colorimetry: CIE-XYZ` was given.
+    fn values(&self) -> &'static [&'static str] {
+        self.values.unwrap_or(&["value"])
+    }
+}
+
+/// Sets the incident angle in `slot` to `new`, refusing another value than the one an
+/// earlier header line gave.
+fn give(source: &Path, slot: &mut Option<Given>, new: Given) -> Result<(), LoadError> {
+    match *slot {
+        Some(old) if old.value != new.value => Err(error(
+            source,
+            new.line,
+            &new.key.column(),
+            LoadErrorKind::IncidenceConflict {
+                other: format!("{} {}", old.key.column(), old.value),
+                other_line: old.line as u64,
+            },
+        )),
+        Some(_) => Ok(()),
+        None => {
+            *slot = Some(new);
+            Ok(())
+        }
+    }
+}
+
+/// The name of a `#sample_name "NAME"` line: in double quotes, trimmed as a CSV sample name
+/// is, and not empty.
+fn sample_name(rest: &str) -> Result<String, LoadErrorKind> {
+    let name = rest
+        .trim()
+        .strip_prefix('"')
+        .and_then(|v| v.strip_suffix('"'))
+        .ok_or(LoadErrorKind::Unquoted)?
+        .trim();
+    if name.is_empty() {
+        return Err(LoadErrorKind::EmptySampleName);
+    }
+    Ok(name.to_owned())
+}
+
+/// The value form of a `#format: theta phi DSF` (or `BSDF`, `BRDF`, `BTDF`, case ignored) line.
+fn value_form(rest: &str) -> Result<PabValue, LoadErrorKind> {
+    let words: Vec<&str> = rest.split_whitespace().collect();
+    match words.as_slice() {
+        ["theta", "phi", t] if t.eq_ignore_ascii_case("DSF") => Ok(PabValue::Dsf),
+        ["theta", "phi", t]
+            if ["BSDF", "BRDF", "BTDF"]
+                .iter()
+                .any(|f| t.eq_ignore_ascii_case(f)) =>
+        {
+            Ok(PabValue::Bsdf)
+        }
+        _ => Err(LoadErrorKind::UnknownFormat(rest.trim().to_owned())),
+    }
+}
+
+/// The value names of a `#colorimetry: CIE-Y` or `CIE-XYZ` line.
+fn colorimetry(rest: &str) -> Result<&'static [&'static str], LoadErrorKind> {
+    match rest.trim() {
+        c if c.eq_ignore_ascii_case("CIE-Y") => Ok(&["value"]),
+        c if c.eq_ignore_ascii_case("CIE-XYZ") => Ok(&["X", "Y", "Z"]),
+        c => Err(LoadErrorKind::UnknownFormat(c.to_owned())),
+    }
+}
+
+/// Reads one pab-opto file: its sample name (empty when the file has none) and its points, as
+/// general measurements of the BSDF. Every problem names the file, the line and the field:
+/// besides the format's own rules, a header line given twice, incident angles that two header
+/// lines give differently, an empty sample name, any value field (X and Z of CIE-XYZ included)
+/// that is not a finite number `>= 0`, and a DSF whose BSDF (DSF / |cos theta|) overflows.
+pub fn read_pabopto(source: &Path, bytes: &[u8]) -> Result<(String, Vec<Measurement>), LoadError> {
+    let err = |line: usize, column: &str, kind| error(source, line, column, kind);
     let text =
         std::str::from_utf8(bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)).map_err(|e| {
             let line = bytes[..e.valid_up_to()]
@@ -84,14 +263,8 @@ pub fn read_pabopto(source: &Path, bytes: &[u8]) -> Result<(String, Vec<Measurem
                 + 1;
             err(line, "text", LoadErrorKind::NotUtf8)
         })?;
-    let mut name = String::new();
-    let mut value_form: Option<PabValue> = None;
-    let (mut theta_i, mut phi_i): (Option<f64>, Option<f64>) = (None, None);
-    // The line and header key that gave theta_i, for its range error.
-    let mut theta_i_at = (1, "#intheta");
-    let mut channels = 1;
+    let mut header = Header::default();
     let mut raw: Vec<(usize, f64, f64, f64)> = Vec::new();
-    let mut header_done = false;
     for (k, line) in text.lines().enumerate() {
         let n = k + 1;
         let trimmed = line.trim();
@@ -99,116 +272,27 @@ pub fn read_pabopto(source: &Path, bytes: &[u8]) -> Result<(String, Vec<Measurem
             continue;
         }
         if let Some(rest) = trimmed.strip_prefix('#') {
-            if header_done {
+            if !raw.is_empty() {
                 return Err(err(n, "#", LoadErrorKind::HeaderAfterData));
             }
-            let rest = rest.trim_start();
-            let number =
-                |s: &str, column: &str| parse_finite(s).map_err(|kind| err(n, column, kind));
-            if let Some(v) = rest.strip_prefix("sample_name") {
-                let v = v.trim();
-                name = v
-                    .strip_prefix('"')
-                    .and_then(|v| v.strip_suffix('"'))
-                    .ok_or_else(|| err(n, "#sample_name", LoadErrorKind::Unquoted))?
-                    .to_owned();
-            } else if let Some(v) = rest.strip_prefix("format:") {
-                let words: Vec<&str> = v.split_whitespace().collect();
-                value_form = Some(match words.as_slice() {
-                    ["theta", "phi", t] if t.eq_ignore_ascii_case("DSF") => PabValue::Dsf,
-                    ["theta", "phi", t]
-                        if ["BSDF", "BRDF", "BTDF"]
-                            .iter()
-                            .any(|f| t.eq_ignore_ascii_case(f)) =>
-                    {
-                        PabValue::Bsdf
-                    }
-                    _ => {
-                        return Err(err(
-                            n,
-                            "#format:",
-                            LoadErrorKind::UnknownFormat(v.trim().to_owned()),
-                        ));
-                    }
-                });
-            } else if let Some(v) = rest.strip_prefix("intheta") {
-                theta_i = Some(number(v.trim(), "#intheta")?);
-                theta_i_at = (n, "#intheta");
-            } else if let Some(v) = rest.strip_prefix("inphi") {
-                phi_i = Some(number(v.trim(), "#inphi")?);
-            } else if let Some(v) = rest.strip_prefix("incident_angle") {
-                let words: Vec<&str> = v.split_whitespace().collect();
-                let [t, p] = words.as_slice() else {
-                    return Err(err(
-                        n,
-                        "#incident_angle",
-                        LoadErrorKind::Fields {
-                            expected: 2,
-                            found: words.len(),
-                        },
-                    ));
-                };
-                theta_i = Some(number(t, "#incident_angle")?);
-                theta_i_at = (n, "#incident_angle");
-                phi_i = Some(number(p, "#incident_angle")?);
-            } else if let Some(v) = rest.strip_prefix("colorimetry:") {
-                channels = match v.trim() {
-                    c if c.eq_ignore_ascii_case("CIE-Y") => 1,
-                    c if c.eq_ignore_ascii_case("CIE-XYZ") => 3,
-                    c => {
-                        return Err(err(
-                            n,
-                            "#colorimetry:",
-                            LoadErrorKind::UnknownFormat(c.to_owned()),
-                        ));
-                    }
-                };
-            }
+            header.read(source, n, rest.trim_start())?;
             continue;
         }
-        header_done = true;
-        let fields: Vec<&str> = trimmed.split_whitespace().collect();
-        if fields.len() != 2 + channels {
-            return Err(err(
-                n,
-                "theta phi value",
-                LoadErrorKind::Fields {
-                    expected: 2 + channels,
-                    found: fields.len(),
-                },
-            ));
-        }
-        let number =
-            |i: usize, column: &str| parse_finite(fields[i]).map_err(|kind| err(n, column, kind));
-        let theta = number(0, "theta")?;
-        if !theta_in_range(theta) {
-            return Err(err(
-                n,
-                "theta",
-                LoadErrorKind::AngleOutOfRange {
-                    value: theta,
-                    range: THETA_RANGE,
-                },
-            ));
-        }
-        let phi = number(1, "phi")?;
-        // The photometric value: the only one for CIE-Y, the middle (Y) of an XYZ triplet.
-        let value = number(2 + channels / 2, "value")?;
-        if value < 0.0 {
-            return Err(err(n, "value", LoadErrorKind::Negative(value)));
-        }
+        let (theta, phi, value) = data_line(source, n, trimmed, header.values())?;
         raw.push((n, theta, phi, value));
     }
-    let form = value_form.ok_or_else(|| err(1, "#format:", LoadErrorKind::NoFormat))?;
-    let (Some(ti), Some(pi)) = (theta_i, phi_i) else {
+    let form = header
+        .form
+        .ok_or_else(|| err(1, "#format:", LoadErrorKind::NoFormat))?;
+    let (Some(ti), Some(pi)) = (header.theta_i, header.phi_i) else {
         return Err(err(1, "#intheta/#inphi", LoadErrorKind::NoIncidence));
     };
-    if !theta_in_range(ti) {
+    if !theta_in_range(ti.value) {
         return Err(err(
-            theta_i_at.0,
-            theta_i_at.1,
+            ti.line,
+            &ti.key.column(),
             LoadErrorKind::AngleOutOfRange {
-                value: ti,
+                value: ti.value,
                 range: THETA_RANGE,
             },
         ));
@@ -216,6 +300,8 @@ pub fn read_pabopto(source: &Path, bytes: &[u8]) -> Result<(String, Vec<Measurem
     if raw.is_empty() {
         return Err(err(1, "theta phi value", LoadErrorKind::NoRows));
     }
+    let values = header.values();
+    let photometric = values[values.len() / 2];
     let side = raw[0].1 < 90.0;
     let mut points = Vec::with_capacity(raw.len());
     for (n, theta, phi, value) in raw {
@@ -227,20 +313,74 @@ pub fn read_pabopto(source: &Path, bytes: &[u8]) -> Result<(String, Vec<Measurem
             PabValue::Bsdf => value,
             PabValue::Dsf => value / cos,
         };
+        if !bsdf.is_finite() {
+            return Err(err(
+                n,
+                photometric,
+                LoadErrorKind::Overflow {
+                    value,
+                    derived: "BSDF = DSF / |cos theta|",
+                },
+            ));
+        }
         points.push(Measurement::spherical(
-            (ti, pi),
+            (ti.value, pi.value),
             (theta, phi),
             bsdf + 0.0,
             1.0,
         ));
     }
-    Ok((name, points))
+    Ok((header.name.unwrap_or_default(), points))
+}
+
+/// Reads data line `n` (`text`, trimmed) of fields `theta phi` and `values`: the angles and
+/// the photometric value (the only one, or Y of X Y Z). Every value must be a finite number
+/// `>= 0`, and theta in `[0, 180]` without 90.
+fn data_line(
+    source: &Path,
+    n: usize,
+    text: &str,
+    values: &[&str],
+) -> Result<(f64, f64, f64), LoadError> {
+    let err = |column: &str, kind| error(source, n, column, kind);
+    let fields: Vec<&str> = text.split_whitespace().collect();
+    if fields.len() != 2 + values.len() {
+        return Err(err(
+            &format!("theta phi {}", values.join(" ")),
+            LoadErrorKind::Fields {
+                expected: 2 + values.len(),
+                found: fields.len(),
+            },
+        ));
+    }
+    let number = |i: usize, column: &str| parse_finite(fields[i]).map_err(|kind| err(column, kind));
+    let theta = number(0, "theta")?;
+    if !theta_in_range(theta) {
+        return Err(err(
+            "theta",
+            LoadErrorKind::AngleOutOfRange {
+                value: theta,
+                range: THETA_RANGE,
+            },
+        ));
+    }
+    let phi = number(1, "phi")?;
+    let mut read = Vec::with_capacity(values.len());
+    for (i, &column) in values.iter().enumerate() {
+        let value = number(2 + i, column)?;
+        if value < 0.0 {
+            return Err(err(column, LoadErrorKind::Negative(value)));
+        }
+        read.push(value);
+    }
+    Ok((theta, phi, read[read.len() / 2]))
 }
 
 /// Writes a general sample as pab-opto files into the folder `dir` (created if missing), one
 /// per incident direction and scattered side, named `NAME_THETA_PHI_R.txt` (reflection) or
 /// `_T.txt` (transmission), values as `form`, preceded by `comment` lines. Returns the paths.
-/// The sample name must not contain a double quote.
+/// The sample name must not contain a double quote; an unnamed sample's files have no
+/// `#sample_name` line.
 pub fn write_pabopto(
     dir: &Path,
     sample: &Sample,
@@ -268,7 +408,9 @@ pub fn write_pabopto(
                         writeln!(head, "# {line}")?;
                     }
                 }
-                writeln!(head, "#sample_name \"{}\"", sample.name)?;
+                if !sample.name.is_empty() {
+                    writeln!(head, "#sample_name \"{}\"", sample.name)?;
+                }
                 writeln!(head, "#format: theta phi {}", form.name())?;
                 writeln!(head, "#intheta {theta_i_deg}")?;
                 writeln!(head, "#inphi {phi_i_deg}")?;
@@ -378,6 +520,151 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
     }
 
+    /// A header line given twice is refused at its second line, naming the first, even with
+    /// the same value; `#intheta`/`#inphi` and `#incident_angle` may both be given only when
+    /// they agree (Radiance's `pabopto2xyz` writes all three).
+    #[test]
+    fn repeated_and_conflicting_header_lines_are_refused() {
+        let head = "#sample_name \"x\"\n#format: theta phi DSF\n#intheta 30\n#inphi 0\n";
+        let cases = [
+            ("#intheta 60\n", "#intheta", 3),
+            ("#inphi 0\n", "#inphi", 4),
+            ("#format: theta phi BSDF\n", "#format:", 2),
+            ("#sample_name \"y\"\n", "#sample_name", 1),
+            (
+                "#colorimetry: CIE-Y\n#colorimetry: CIE-Y\n",
+                "#colorimetry:",
+                5,
+            ),
+            (
+                "#incident_angle 30 0\n#incident_angle 30 0\n",
+                "#incident_angle",
+                5,
+            ),
+        ];
+        for (extra, column, first) in cases {
+            let e = read(&format!("{head}{extra}150 0 1\n")).unwrap_err();
+            let line = 4 + extra.lines().count() as u64;
+            assert_eq!(
+                (e.line, e.column.as_deref(), e.kind),
+                (
+                    Some(line),
+                    Some(column),
+                    LoadErrorKind::RepeatedHeader { first }
+                ),
+                "{extra:?}"
+            );
+        }
+        let e = read(&format!("{head}#intheta 60\n150 0 1\n")).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "m.txt:5: column '#intheta': given again; line 3 gave it already, and each header \
+             line may appear once"
+        );
+        let e = read(&format!("{head}#incident_angle 30 5\n150 0 1\n")).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "m.txt:5: column '#incident_angle': disagrees with '#inphi 0' on line 4"
+        );
+        let e = read("#format: theta phi DSF\n#incident_angle 30 0\n#intheta 60\n150 0 1\n")
+            .unwrap_err();
+        assert_eq!(
+            (e.line, e.column.as_deref()),
+            (Some(3), Some("#intheta")),
+            "{e}"
+        );
+        assert_eq!(
+            e.kind,
+            LoadErrorKind::IncidenceConflict {
+                other: "#incident_angle 30".into(),
+                other_line: 2,
+            }
+        );
+        let (_, pts) = read(&format!("{head}#incident_angle 30 0\n150 0 1\n")).unwrap();
+        assert_eq!(pts[0].spherical_angles().unwrap().0, (30.0, 0.0));
+    }
+
+    /// A sample name is trimmed and must not be empty, as a CSV file's `sample` field; an
+    /// unnamed sample is written without a `#sample_name` line and reads back unnamed.
+    #[test]
+    fn sample_names_are_trimmed_and_not_empty() {
+        let body = "#format: theta phi BSDF\n#intheta 30\n#inphi 0\n150 0 1\n";
+        for name in ["\"\"", "\"  \""] {
+            let e = read(&format!("#sample_name {name}\n{body}")).unwrap_err();
+            assert_eq!(
+                (e.line, e.column.as_deref(), e.kind),
+                (
+                    Some(1),
+                    Some("#sample_name"),
+                    LoadErrorKind::EmptySampleName
+                ),
+                "{name}"
+            );
+        }
+        let (name, _) = read(&format!("#sample_name \" a b \"\n{body}")).unwrap();
+        assert_eq!(name, "a b");
+        let sample = Sample {
+            name: String::new(),
+            points: vec![Measurement::spherical((30.0, 0.0), (150.0, 0.0), 1.0, 1.0)],
+        };
+        let dir = std::env::temp_dir().join(format!("stfit-pab-unnamed-{}", std::process::id()));
+        let paths = write_pabopto(&dir, &sample, PabValue::Bsdf, None).unwrap();
+        let bytes = std::fs::read(&paths[0]).unwrap();
+        assert!(!String::from_utf8_lossy(&bytes).contains("#sample_name"));
+        assert_eq!(read_pabopto(&paths[0], &bytes).unwrap().0, "");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Every value of a line is checked, X and Z of an XYZ triplet too, and a DSF whose BSDF
+    /// (DSF / |cos theta|) overflows near grazing is refused at its line.
+    #[test]
+    fn every_value_is_checked_and_dsf_overflow_refused() {
+        let head = "#format: theta phi DSF\n#intheta 30\n#inphi 0\n";
+        let xyz = format!("{head}#colorimetry: CIE-XYZ\n150 0 1 1 1\n");
+        let cases = [
+            (
+                format!("{xyz}150 10 -5 0.2 0.3\n"),
+                "X",
+                LoadErrorKind::Negative(-5.0),
+            ),
+            (
+                format!("{xyz}150 10 0.1 0.2 nan\n"),
+                "Z",
+                LoadErrorKind::NonFinite("nan".into()),
+            ),
+            (
+                format!("{xyz}150 10 0.1 -0.2 0.3\n"),
+                "Y",
+                LoadErrorKind::Negative(-0.2),
+            ),
+            (
+                format!("{xyz}90.0000000001 0 1 1e300 1\n"),
+                "Y",
+                LoadErrorKind::Overflow {
+                    value: 1e300,
+                    derived: "BSDF = DSF / |cos theta|",
+                },
+            ),
+        ];
+        for (text, column, kind) in cases {
+            let e = read(&text).unwrap_err();
+            assert_eq!(
+                (e.line, e.column.as_deref(), e.kind),
+                (Some(6), Some(column), kind),
+                "{text:?}"
+            );
+        }
+        let e = read(&format!("{head}150 0 1\n90.0000000001 0 1e300\n")).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "m.txt:5: column 'value': 1e300 is too large: BSDF = DSF / |cos theta| overflows to \
+             infinity"
+        );
+        let bsdf = head.replace("DSF", "BSDF");
+        let (_, pts) = read(&format!("{bsdf}90.0000000001 0 1e300\n")).unwrap();
+        assert_eq!(pts[0].value, 1e300);
+    }
+
     /// Malformed files name their line and field.
     #[test]
     fn errors_name_line_and_field() {
@@ -408,6 +695,12 @@ mod tests {
                 "#format: theta phi BSDF\n#colorimetry: RGB\n",
                 2,
                 "#colorimetry:",
+            ),
+            ("#sample_name \"\"\n", 1, "#sample_name"),
+            (
+                &format!("{head}#colorimetry: CIE-XYZ\n10 0 1 2\n"),
+                5,
+                "theta phi X Y Z",
             ),
         ];
         for (text, line, column) in cases {

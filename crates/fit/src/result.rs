@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::data::Measured;
 use crate::model::Model;
-use crate::options::{Loss, MultipleTerm, Optimizer};
+use crate::options::{Loss, MultipleTerm, Optimizer, check_fit_eta};
 
 /// The result of fitting one model to one sample (one record of the fits JSON).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -130,6 +130,46 @@ impl FitResult {
     pub fn flagged(&self) -> bool {
         !self.warnings.is_empty()
     }
+
+    /// Checks that every number of the fit is in its documented range (`fits-format.md`): a
+    /// model that can be evaluated ([`Model::check`]) whose eta is the glass of a fit
+    /// ([`check_fit_eta`]: in [1.05, 3]), a log floor finite and > 0 if given, a finite
+    /// `rmse_sqrt_l` >= 0 and standard errors `null` or finite and > 0. The message names the
+    /// field.
+    pub fn check(&self) -> Result<(), String> {
+        self.model.check().map_err(|e| e.to_string())?;
+        check_fit_eta(self.model.eta).map_err(|e| e.to_string())?;
+        if let Some(floor) = self.log_floor {
+            positive("log_floor", floor)?;
+        }
+        if !(self.rmse_sqrt_l.is_finite() && self.rmse_sqrt_l >= 0.0) {
+            return Err(format!(
+                "rmse_sqrt_l must be finite and >= 0, got {}",
+                self.rmse_sqrt_l
+            ));
+        }
+        let stderrs = [
+            ("alpha_stderr", self.alpha_stderr),
+            ("gamma_stderr", self.gamma_stderr),
+            ("eta_stderr", self.eta_stderr),
+            ("scale_stderr", self.scale_stderr),
+        ];
+        for (name, value) in stderrs {
+            if let Some(v) = value {
+                positive(name, v)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `Ok` for a finite `value` > 0, else a message naming the field `name`.
+fn positive(name: &str, value: f64) -> Result<(), String> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(format!("{name} must be finite and > 0, got {value}"))
+    }
 }
 
 /// The version of the fits file this stfit writes.
@@ -190,24 +230,26 @@ impl FitsFile {
     }
 
     /// Parses stored fits; `source` names them in errors. Refuses files without a version (made
-    /// by stfit 0.1) or of another version, and fits whose model cannot be evaluated.
+    /// by stfit 0.1) or of another version, and fits with a number outside its documented range
+    /// ([`FitResult::check`]).
     pub fn from_json(source: &str, text: &str) -> Result<Self, FitsFileError> {
         let file = Self::from_json_unchecked(source, text)?;
         for (index, fit) in file.fits.iter().enumerate() {
-            fit.model.check().map_err(|e| FitsFileError::InvalidFit {
+            fit.check().map_err(|reason| FitsFileError::InvalidFit {
                 file: source.to_owned(),
                 index,
                 label: fit.label(),
-                reason: e.to_string(),
+                reason,
             })?;
         }
         Ok(file)
     }
 
-    /// [`FitsFile::from_json`] without checking that each model can be evaluated: for readers
-    /// that name such fits and go on with the others (`stfit report` warns and leaves their
-    /// curves out) rather than refuse the file.
+    /// [`FitsFile::from_json`] without checking each fit: for readers that name such fits and
+    /// go on with the others (`stfit report` warns and leaves their curves out) rather than
+    /// refuse the file. A leading UTF-8 byte order mark is skipped.
     pub fn from_json_unchecked(source: &str, text: &str) -> Result<Self, FitsFileError> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let json = |e: serde_json::Error| FitsFileError::Json(source.to_owned(), e.to_string());
         let value: serde_json::Value = serde_json::from_str(text).map_err(json)?;
         match value.get("version") {
@@ -290,5 +332,69 @@ mod tests {
         let again = FitsFile::from_json("g.json", &file.to_json()).unwrap();
         assert_eq!(again.fits, file.fits);
         assert!(file.to_json().contains("\"multiple_term\": \"exact\""));
+    }
+
+    /// The record of `records_from_before_free_eta_read_with_eta_held` with `key` set to
+    /// `value` (a JSON text).
+    fn with(key: &str, value: &str) -> String {
+        let mut v: serde_json::Value = serde_json::from_str(
+            r#"{"version": 1, "fits": [{
+            "sample": "s", "model": "student-t", "alpha": 0.2, "gamma": 3.0,
+            "gamma_fixed": false, "scale": 1.5, "eta": 1.51, "masking": "separable",
+            "orders": "single", "walks": null, "seed": null, "loss": "sqrt",
+            "optimizer": "nelder-mead", "rmse_sqrt_l": 0.01, "n_points": 10,
+            "alpha_stderr": 0.001, "gamma_stderr": 0.1, "scale_stderr": 0.01,
+            "iterations": 40, "data": "d.csv", "stfit_version": "0.2.0"
+        }]}"#,
+        )
+        .unwrap();
+        v["fits"][0][key] = serde_json::from_str(value).unwrap();
+        v.to_string()
+    }
+
+    /// Every number outside its documented range is refused when the file is read, the
+    /// message naming the file, the fit and the field; the ends of the ranges are read.
+    #[test]
+    fn numbers_outside_their_documented_ranges_are_refused() {
+        for (key, value) in [
+            ("eta", "0.5"),
+            ("eta", "1.04"),
+            ("eta", "3.01"),
+            ("eta", "10"),
+            ("eta", "100"),
+            ("alpha", "0"),
+            ("gamma", "1.5"),
+            ("scale", "-1"),
+            ("rmse_sqrt_l", "-1"),
+            ("alpha_stderr", "-0.1"),
+            ("gamma_stderr", "0"),
+            ("scale_stderr", "-1e-3"),
+            ("eta_stderr", "-1"),
+            ("log_floor", "0"),
+        ] {
+            let e = FitsFile::from_json("f.json", &with(key, value))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.starts_with("f.json: fit 0 (sample 's', student-t): ") && e.contains(key),
+                "{key} {value}: {e}"
+            );
+        }
+        for (key, value) in [
+            ("eta", "1.05"),
+            ("eta", "3"),
+            ("rmse_sqrt_l", "0"),
+            ("alpha_stderr", "null"),
+        ] {
+            FitsFile::from_json("f.json", &with(key, value)).unwrap();
+        }
+    }
+
+    /// A file that starts with a UTF-8 byte order mark (as some editors save) reads as without.
+    #[test]
+    fn a_leading_byte_order_mark_is_skipped() {
+        let text = with("eta", "1.51");
+        let file = FitsFile::from_json("f.json", &format!("\u{feff}{text}")).unwrap();
+        assert_eq!(file, FitsFile::from_json("f.json", &text).unwrap());
     }
 }

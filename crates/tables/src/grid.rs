@@ -84,7 +84,7 @@ impl Axis {
     }
 
     /// An axis of listed values, as the text `v1,v2,...` gives them: finite, at most
-    /// `MAX_NODES` of them.
+    /// `MAX_NODES` of them, strictly increasing.
     pub fn listed(values: Vec<f64>) -> Result<Self, String> {
         if let Some(v) = values.iter().find(|v| !v.is_finite()) {
             return Err(format!("'{v}' is not a finite number"));
@@ -92,7 +92,35 @@ impl Axis {
         if values.len() > MAX_NODES {
             return Err(format!("more than {MAX_NODES} values"));
         }
-        Ok(Self::list(values))
+        let axis = Self::list(values);
+        axis.check_increasing()?;
+        Ok(axis)
+    }
+
+    /// Checks that the values are strictly increasing (distinct nodes, in order).
+    pub fn check_increasing(&self) -> Result<(), String> {
+        match self.values.windows(2).find(|w| w[0] >= w[1]) {
+            Some(w) => Err(format!(
+                "values must be strictly increasing, got {} then {}",
+                w[0], w[1]
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// Checks that the values are what the mapping gives at the parameters (one value per
+    /// parameter), as in a file whose axis may have been edited.
+    pub fn check_mapped(&self) -> Result<(), String> {
+        let mapped = Self::from_params(self.mapping, self.params.clone());
+        if mapped.values == self.values {
+            return Ok(());
+        }
+        Err(format!(
+            "values {:?} are not what {} gives at the parameters {:?}",
+            self.values,
+            self.mapping.name(),
+            self.params
+        ))
     }
 
     /// Number of nodes.
@@ -105,8 +133,9 @@ impl Axis {
         self.values.is_empty()
     }
 
-    /// Checks that every value is finite and in `[lo, hi]` (`lo` excluded when `open_lo`),
-    /// naming the axis in the error.
+    /// Checks that the axis has values, that they are what the mapping gives at the
+    /// parameters ([`Axis::check_mapped`]), strictly increasing, finite and in `[lo, hi]` (`lo`
+    /// excluded when `open_lo`), naming the axis in the error.
     pub(crate) fn check_range(
         &self,
         axis: &'static str,
@@ -114,12 +143,12 @@ impl Axis {
         open_lo: bool,
         hi: f64,
     ) -> Result<(), SpecError> {
+        let error = |message: String| SpecError::Axis { axis, message };
         if self.values.is_empty() {
-            return Err(SpecError::Axis {
-                axis,
-                message: "has no values".into(),
-            });
+            return Err(error("has no values".into()));
         }
+        self.check_mapped().map_err(error)?;
+        self.check_increasing().map_err(error)?;
         for &v in &self.values {
             let below = if open_lo { v <= lo } else { v < lo };
             if !v.is_finite() || below || v > hi {
@@ -192,6 +221,12 @@ impl FromStr for Axis {
         if count == 1 && start != end {
             return Err("COUNT 1 needs START = END".into());
         }
+        if count > 1 && start >= end {
+            return Err(format!("COUNT {count} needs START < END"));
+        }
+        if mapping == Mapping::Sq && start < 0.0 {
+            return Err("sq needs START >= 0".into());
+        }
         if mapping == Mapping::Log && !(start > 0.0 && end > 0.0) {
             return Err("log spacing needs START > 0 and END > 0".into());
         }
@@ -208,12 +243,16 @@ impl FromStr for Axis {
                     i as f64 / (count - 1) as f64
                 };
                 match mapping {
+                    // The ends exactly: exp(ln(x)) may miss x by an ulp.
+                    Mapping::Log if f == 0.0 || f == 1.0 => start + (end - start) * f,
                     Mapping::Log => (start.ln() + (end.ln() - start.ln()) * f).exp(),
                     _ => start + (end - start) * f,
                 }
             })
             .collect();
-        Ok(Self::from_params(mapping, params))
+        let axis = Self::from_params(mapping, params);
+        axis.check_increasing()?;
+        Ok(axis)
     }
 }
 
@@ -273,6 +312,8 @@ mod tests {
         assert_eq!(a.values, vec![0.25, 1.0]);
         let a: Axis = "log:0.01:1:3".parse().unwrap();
         assert!((a.values[1] - 0.1).abs() < 1e-15);
+        let a: Axis = "log:1e-8:4:6".parse().unwrap();
+        assert_eq!((a.values[0], a.values[5]), (1e-8, 4.0));
         let a: Axis = "1.5, 2,3".parse().unwrap();
         assert_eq!((a.mapping, a.values), (Mapping::List, vec![1.5, 2.0, 3.0]));
         let a: Axis = "cycles-ior:0.5:0.5:1".parse().unwrap();
@@ -289,6 +330,47 @@ mod tests {
         ] {
             assert!(bad.parse::<Axis>().is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn nodes_must_be_distinct_and_increasing() {
+        for (bad, message) in [
+            ("0.5:0.5:3", "COUNT 3 needs START < END"),
+            ("0.5:0.3:3", "COUNT 3 needs START < END"),
+            ("0.3,0.3", "strictly increasing, got 0.3 then 0.3"),
+            ("0.5,0.3", "strictly increasing, got 0.5 then 0.3"),
+            ("sq:-2:1:3", "sq needs START >= 0"),
+            (
+                "1:1.0000000000000002:3",
+                "strictly increasing, got 1 then 1",
+            ),
+        ] {
+            let err = bad.parse::<Axis>().unwrap_err();
+            assert!(err.contains(message), "{bad}: {err}");
+        }
+        assert_eq!(
+            Axis::listed(vec![0.2, 0.1]).unwrap_err(),
+            "values must be strictly increasing, got 0.2 then 0.1"
+        );
+        let a: Axis = "sq:0:1:3".parse().unwrap();
+        assert_eq!(a.values, vec![0.0, 0.25, 1.0]);
+    }
+
+    #[test]
+    fn values_must_be_what_the_mapping_gives() {
+        let mut a: Axis = "0.1:0.5:3".parse().unwrap();
+        a.values[1] = 0.2;
+        let err = a
+            .check_range("alpha", 0.0, false, 1.0)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            err,
+            "alpha axis values [0.1, 0.2, 0.5] are not what lin gives at the parameters \
+             [0.1, 0.30000000000000004, 0.5]"
+        );
+        a.values.pop();
+        assert!(a.check_mapped().is_err());
     }
 
     #[test]

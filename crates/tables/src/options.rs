@@ -317,7 +317,14 @@ impl TableOptions {
             spec.walks = self.walks.unwrap_or(spec.walks);
             spec.seed = self.seed.unwrap_or(spec.seed);
         }
-        spec.check()?;
+        spec.check().map_err(|e| match (self.layout, &spec.eta) {
+            (Some(Layout::Cycles), Some(_)) if spec.walks_needed() => SpecError::Invalid(format!(
+                "{cycles} for a dielectric is for {} only: its node z = 0 has eta = 1 + 2e-8 \
+                 ({e})",
+                choice("orders", &["single"])
+            )),
+            _ => e,
+        })?;
         Ok(spec)
     }
 }
@@ -510,6 +517,32 @@ mod tests {
             message(&o, Naming::Flags),
             "--alpha-grid is required (or --layout cycles)"
         );
+    }
+
+    #[test]
+    fn walks_refuse_eta_near_1_before_any_work() {
+        let mut o = options();
+        o.orders = ScatteringOrders::All;
+        o.eta_grid = Some("1.0000000001,1.5".parse().unwrap());
+        let err = message(&o, Naming::Flags);
+        assert!(
+            err.starts_with("eta axis value 1.0000000001 cannot be walked (orders multiple"),
+            "{err}"
+        );
+        o.eta_grid = None;
+        o.alpha_grid = None;
+        o.mu_grid = None;
+        o.layout = Some(Layout::Cycles);
+        let err = message(&o, Naming::Flags);
+        assert!(
+            err.starts_with(
+                "--layout cycles for a dielectric is for --orders single only: its node z = 0 \
+                 has eta = 1 + 2e-8 (eta axis value 1.00000002 cannot be walked"
+            ),
+            "{err}"
+        );
+        o.orders = ScatteringOrders::Single;
+        assert!(o.spec(Naming::Flags).is_ok());
     }
 
     #[test]

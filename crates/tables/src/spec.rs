@@ -11,7 +11,7 @@ use crate::grid::{Axis, cycles_ior, cycles_mu, cycles_roughness};
 use crate::single::{Interface, TableMasking};
 use serde::{Deserialize, Serialize};
 use stfit_core::Vec3;
-use stfit_core::walk::{ConductorFacet, ScatteringOrders};
+use stfit_core::walk::{ConductorFacet, DielectricFacet, ScatteringOrders};
 
 /// The NDF family.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -186,6 +186,7 @@ impl TableSpec {
             (_, Some(_)) => return invalid("an eta axis applies only to a dielectric"),
             _ => {}
         }
+        self.check_walked_eta()?;
         if let Surface::Conductor { n, k } = self.surface {
             let (lo, hi) = CONDUCTOR_RANGE;
             if !(n > lo && n <= hi && (lo..=hi).contains(&k)) {
@@ -206,6 +207,24 @@ impl TableSpec {
                 "walks per cell must be in [1, {MAX_WALKS}], got {}",
                 self.walks
             )));
+        }
+        Ok(())
+    }
+
+    /// With walks (orders >= 2), checks every eta against the walks' own rule
+    /// ([`DielectricFacet::new`]: `|eta - 1| >= stfit_core::error::ETA_NEAR_ONE`), so that a
+    /// table they cannot compute is refused before any work.
+    fn check_walked_eta(&self) -> Result<(), SpecError> {
+        let Some(eta) = self.eta.as_ref().filter(|_| self.walks_needed()) else {
+            return Ok(());
+        };
+        for &v in &eta.values {
+            DielectricFacet::new(v).map_err(|e| SpecError::Axis {
+                axis: "eta",
+                message: format!(
+                    "value {v} cannot be walked (orders multiple and all need random walks): {e}"
+                ),
+            })?;
         }
         Ok(())
     }

@@ -46,18 +46,20 @@ pub struct RoughFace {
 }
 
 impl RoughFace {
-    /// All orders of the fitted microsurface's scattering.
-    pub fn all_orders(model: &ExportModel) -> Self {
-        Self {
-            surface: model.microsurface(ScatteringOrders::All),
-        }
+    /// All orders of the fitted microsurface's scattering; refuses a model whose walks are not
+    /// supported ([`ExportModel::microsurface`]).
+    pub fn all_orders(model: &ExportModel) -> Result<Self, ExportError> {
+        Ok(Self {
+            surface: model.microsurface(ScatteringOrders::All)?,
+        })
     }
 
-    /// Only the orders >= 2 of the fitted microsurface's scattering.
-    pub fn multiple_orders(model: &ExportModel) -> Self {
-        Self {
-            surface: model.microsurface(ScatteringOrders::Multiple),
-        }
+    /// Only the orders >= 2 of the fitted microsurface's scattering; refuses a model whose
+    /// walks are not supported ([`ExportModel::microsurface`]).
+    pub fn multiple_orders(model: &ExportModel) -> Result<Self, ExportError> {
+        Ok(Self {
+            surface: model.microsurface(ScatteringOrders::Multiple)?,
+        })
     }
 }
 

@@ -119,7 +119,7 @@ pub fn klems(
     opts.check()?;
     match opts.layer {
         LayerKind::Pane => {
-            let pane = Pane::new(RoughFace::all_orders(model), model.eta(), opts.absorption)?;
+            let pane = Pane::new(RoughFace::all_orders(model)?, model.eta(), opts.absorption)?;
             let bsdf = klems_monte_carlo(&pane, opts.walks_per_patch, opts.seed);
             Ok((bsdf, pane.describe()))
         }
@@ -138,7 +138,7 @@ pub fn klems(
                 };
                 return Ok((KlemsBsdf::new(blocks, method), single));
             }
-            let multi = RoughFace::multiple_orders(model);
+            let multi = RoughFace::multiple_orders(model)?;
             let (mc, n) = monte_carlo_sums(&multi, opts.walks_per_patch, opts.seed);
             for (s, m) in sums.iter_mut().zip(&mc) {
                 s.add(m);

@@ -1,15 +1,22 @@
 //! Shard files: one slice of a table (`--shard K/N`) with the specification it belongs to, as
 //! JSON, and their merge into the table a single run computes.
 
-use crate::compute::{LineResult, Shard, Table};
+use crate::compute::{LineResult, Shard, Table, Value};
 use crate::error::ShardError;
+use crate::single::{Albedo, TableMasking};
 use crate::spec::TableSpec;
 use serde::{Deserialize, Serialize};
+use stfit_core::error::show;
+use stfit_core::walk::ScatteringOrders;
 
 /// The `format` tag of a shard file.
 pub const FORMAT: &str = "stfit-tables-shard";
 /// The version of the shard file format.
 pub const VERSION: u32 = 1;
+
+/// How far a value read from a shard may lie outside what it can be (fractions in `[0, 1]`,
+/// sums of fractions): ten times the largest quadrature error measured (tables-format.md).
+pub const TOLERANCE: f64 = 1e-5;
 
 /// The contents of a shard file.
 #[derive(Debug, Serialize, Deserialize)]
@@ -107,6 +114,7 @@ pub fn merge(files: &[(String, String)]) -> Result<Table, ShardError> {
                     spec.mu.len()
                 )));
             }
+            check_values(spec, l).map_err(|m| mismatch(format!("line {}, {m}", l.index)))?;
         }
         lines.extend(file.lines);
     }
@@ -127,4 +135,97 @@ pub fn merge(files: &[(String, String)]) -> Result<Table, ShardError> {
     }
     lines.sort_unstable_by_key(|l| l.index);
     Ok(Table { spec, lines })
+}
+
+/// Checks that `v`, the value `label` names, is in `[lo, hi]` within [`TOLERANCE`].
+fn within(label: &str, v: f64, lo: f64, hi: f64) -> Result<(), String> {
+    if v.is_finite() && v >= lo - TOLERANCE && v <= hi + TOLERANCE {
+        return Ok(());
+    }
+    Err(format!(
+        "{label} = {} is not in [{lo}, {hi}] (tolerance {TOLERANCE:e})",
+        show(v)
+    ))
+}
+
+/// Checks a single-scattering albedo, the field `name` (CSV columns `*_<suffix>`): reflected,
+/// transmitted and their sum are fractions.
+fn check_albedo(name: &str, suffix: &str, a: &Albedo) -> Result<(), String> {
+    let r = format!("{name}.reflected (R_{suffix})");
+    within(&r, a.reflected, 0.0, 1.0)?;
+    let t = format!("{name}.transmitted (T_{suffix})");
+    within(&t, a.transmitted, 0.0, 1.0)?;
+    let e = format!("{name}.reflected + {name}.transmitted (E_{suffix})");
+    within(&e, a.total(), 0.0, 1.0)
+}
+
+/// Checks the values of a line read from a shard against what they can be: single-scattering
+/// albedos and their averages are fractions ([`check_albedo`]); a walk's standard errors are
+/// in `[0, 1]`; its means are fractions for orders >= 2, and for all orders `E_ss` (the
+/// height-correlated one: the cell's own with that masking) plus a fraction; its total is
+/// reflected plus transmitted; its truncated flux is a fraction. All within [`TOLERANCE`].
+fn check_values(spec: &TableSpec, line: &LineResult) -> Result<(), String> {
+    check_albedo("average", "avg", &line.average)?;
+    let suffix = match spec.orders {
+        ScatteringOrders::All => "all",
+        _ => "ms",
+    };
+    for (y, cell) in line.cells.iter().enumerate() {
+        let at = |m: String| format!("cell {y} (mu {}): {m}", spec.mu.values[y]);
+        check_albedo("single", "ss", &cell.single).map_err(at)?;
+        let Some(w) = &cell.walk else { continue };
+        let first = match spec.orders {
+            ScatteringOrders::All if spec.masking == TableMasking::Correlated => Some(cell.single),
+            _ => None,
+        };
+        let parts = [
+            ("reflected", "R", w.reflected, first.map(|a| a.reflected)),
+            (
+                "transmitted",
+                "T",
+                w.transmitted,
+                first.map(|a| a.transmitted),
+            ),
+            ("total", "E", w.total, first.map(|a| a.total())),
+        ];
+        for (name, letter, value, first) in parts {
+            check_walk(spec, name, letter, value, first).map_err(at)?;
+        }
+        let sum = w.reflected.mean + w.transmitted.mean;
+        if (w.total.mean - sum).abs() > TOLERANCE {
+            return Err(at(format!(
+                "walk.total.mean (E_{suffix}) = {} is not walk.reflected.mean + \
+                 walk.transmitted.mean = {}",
+                show(w.total.mean),
+                show(sum)
+            )));
+        }
+        within("walk.truncated", w.truncated, 0.0, 1.0).map_err(at)?;
+    }
+    Ok(())
+}
+
+/// Checks one walk estimate, the field `walk.<name>` (CSV column `<letter>_all` or
+/// `<letter>_ms`): its standard error is in `[0, 1]`; its mean, less `first` (the cell's
+/// `<letter>_ss` when it is the all-orders estimate's first order), is a fraction, and with all
+/// orders but no `first`, it is at most 2.
+fn check_walk(
+    spec: &TableSpec,
+    name: &str,
+    letter: &str,
+    v: Value,
+    first: Option<f64>,
+) -> Result<(), String> {
+    let column = match spec.orders {
+        ScatteringOrders::All => format!("{letter}_all"),
+        _ => format!("{letter}_ms"),
+    };
+    let stderr = format!("walk.{name}.stderr ({column}_stderr)");
+    within(&stderr, v.stderr, 0.0, 1.0)?;
+    let mean = format!("walk.{name}.mean ({column})");
+    match (first, spec.orders) {
+        (Some(first), _) => within(&format!("{mean} - {letter}_ss"), v.mean - first, 0.0, 1.0),
+        (None, ScatteringOrders::All) => within(&mean, v.mean, 0.0, 2.0),
+        (None, _) => within(&mean, v.mean, 0.0, 1.0),
+    }
 }
