@@ -131,10 +131,11 @@ fn bad_values_and_bad_files_are_refused_with_the_right_exit_code() {
     let fits = example_fits();
     let dir = CaseDir::new("export-errors");
     let one_file = dir.join("x.xml");
-    let usage: [&[&str]; 5] = [
+    let usage: [&[&str]; 6] = [
         &["--to", "radiance", "--absorption", "1.5"],
         &["--to", "mitsuba3", "--layer", "interface"],
         &["--to", "radiance", "--walks", "0"],
+        &["--to", "radiance", "--walks", "10000000000000"],
         &["--to", "radiance", "--out", one_file.to_str().unwrap()],
         &["--to", "pbrt-v4", "--samples", "10"],
     ];

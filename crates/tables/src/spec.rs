@@ -96,8 +96,8 @@ pub const MU_RANGE: (f64, f64) = (1e-4, 1.0);
 pub const ETA_RANGE: (f64, f64) = (1.0, 100.0);
 /// Supported range of a conductor's `n` (open below) and `k`.
 pub const CONDUCTOR_RANGE: (f64, f64) = (0.0, 100.0);
-/// Largest number of walks per cell.
-pub const MAX_WALKS: u64 = 1_000_000_000;
+/// Largest number of walks per cell: the walks' own rule ([`stfit_core::walk::check_walks`]).
+pub use stfit_core::walk::MAX_WALKS;
 
 /// A table to compute.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -202,7 +202,9 @@ impl TableSpec {
         if self.surface != Surface::Dielectric && self.sides != [Side::Outside] {
             return invalid("conductors and mirrors are two-sided: tabulate side outside only");
         }
-        if self.orders != ScatteringOrders::Single && !(1..=MAX_WALKS).contains(&self.walks) {
+        if self.orders != ScatteringOrders::Single
+            && stfit_core::walk::check_walks(self.walks).is_err()
+        {
             return Err(SpecError::Invalid(format!(
                 "walks per cell must be in [1, {MAX_WALKS}], got {}",
                 self.walks

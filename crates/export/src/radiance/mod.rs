@@ -90,10 +90,12 @@ impl RadianceOptions {
                 "absorption applies to a pane, not to a single interface".into(),
             ));
         }
-        if self.walks_per_patch == 0 {
-            return Err(ExportError::Unsupported(
-                "walks per patch must be at least 1".into(),
-            ));
+        if stfit_core::walk::check_walks(self.walks_per_patch).is_err() {
+            return Err(ExportError::Unsupported(format!(
+                "walks per patch must be in [1, {}], got {}",
+                stfit_core::walk::MAX_WALKS,
+                self.walks_per_patch
+            )));
         }
         if !self.rule.is_valid() {
             return Err(ExportError::Unsupported(
