@@ -50,6 +50,7 @@ use std::path::PathBuf;
 
 use rayon::prelude::*;
 use stfit_core::ParamError;
+use stfit_core::Vec3;
 use stfit_core::bsdf::Masking;
 use stfit_core::error::check_gamma;
 use stfit_core::walk::ScatteringOrders;
@@ -109,9 +110,10 @@ pub enum FitError {
     #[error("sample `{}`: every measured value is zero", short(sample))]
     AllZero { sample: String },
     /// A measurement outside the model's domain.
-    #[error("sample `{}`, point {index}: {reason}", short(sample))]
+    #[error("sample `{}`, point {} (counting from 1): {reason}", short(sample), index + 1)]
     InvalidData {
         sample: String,
+        /// The point's index in the sample, from 0.
         index: usize,
         reason: String,
     },
@@ -175,7 +177,8 @@ struct Prepared<'a> {
     w: Vec<f64>,
     /// The largest magnitude of the usable values (1 when they are all zero).
     unit: f64,
-    /// Usable points whose value is not zero: the points that carry information on the shape.
+    /// Distinct direction pairs among the usable points whose value is not zero: the points
+    /// that carry information on the shape (copies of one measurement add none).
     informative: usize,
     /// What the usable points measure.
     measured: Measured,
@@ -218,7 +221,13 @@ impl<'a> Prepared<'a> {
         let unit = v.iter().fold(0.0f64, |m, &v: &f64| m.max(v.abs()));
         let unit = if unit > 0.0 { unit } else { 1.0 };
         v.iter_mut().for_each(|v| *v /= unit);
-        let informative = v.iter().filter(|&&v| v != 0.0).count();
+        let informative = distinct_pairs(
+            pairs
+                .iter()
+                .zip(&v)
+                .filter(|&(_, &v)| v != 0.0)
+                .map(|(pair, _)| *pair),
+        );
         let forward = Forward::new(
             &pairs,
             quantity,
@@ -830,8 +839,8 @@ struct StandardErrors {
 }
 
 /// Standard errors of `(alpha, [gamma], [eta], [scale])` as in the module docs, in the fit's
-/// units; `None` when the curvature is singular or a standard error is not a finite positive
-/// number.
+/// units; `None` when the curvature is singular, a standard error is not a finite positive
+/// number, or a shape parameter's exceeds the width of its search range.
 fn standard_errors(
     eval: &Evaluator,
     p: Point,
@@ -913,6 +922,19 @@ fn standard_errors(
     if se.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
         return Ok(None);
     }
+    // A shape parameter whose standard error exceeds the width of its whole search range is
+    // not determined by the data (a scale held far from the data's flattens the loss), even
+    // where rounding leaves the curvature invertible.
+    let mut widths = vec![ALPHA_MAX - ALPHA_MIN];
+    if p.gamma.is_free() {
+        widths.push(GAMMA_EXCESS_MAX - GAMMA_EXCESS_MIN);
+    }
+    if eval.shape.eta.is_free() {
+        widths.push(ETA_MAX - ETA_MIN);
+    }
+    if se.iter().zip(&widths).any(|(s, w)| s > w) {
+        return Ok(None);
+    }
     let mut se = se.into_iter();
     Ok(Some(StandardErrors {
         alpha: se.next(),
@@ -924,6 +946,16 @@ fn standard_errors(
         },
         scale: if scale_free { se.next() } else { None },
     }))
+}
+
+/// The number of distinct direction pairs (compared bit for bit) among `pairs`.
+fn distinct_pairs(pairs: impl Iterator<Item = (Vec3, Vec3)>) -> usize {
+    let mut keys: Vec<[u64; 6]> = pairs
+        .map(|(a, b)| [a.x, a.y, a.z, b.x, b.y, b.z].map(f64::to_bits))
+        .collect();
+    keys.sort_unstable();
+    keys.dedup();
+    keys.len()
 }
 
 /// The variances of the fitted parameters due to the Monte Carlo error of the orders >= 2

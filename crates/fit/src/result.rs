@@ -79,7 +79,8 @@ pub enum FitWarning {
     /// The curvature of the loss at the optimum is singular: some parameter, or combination of
     /// them, is not determined by the data.
     SingularCurvature,
-    /// Fewer informative points (positive weight, value not zero) than fitted parameters.
+    /// Fewer informative points (distinct direction pairs with positive weight and a value not
+    /// zero) than fitted parameters.
     FewInformativePoints {
         informative: usize,
         parameters: usize,
@@ -103,7 +104,8 @@ impl std::fmt::Display for FitWarning {
                 parameters,
             } => write!(
                 f,
-                "only {informative} informative points (weight > 0, value not 0) for \
+                "only {informative} informative points (distinct direction pairs with weight > 0 and \
+                 value not 0) for \
                  {parameters} fitted parameters"
             ),
         }
