@@ -50,11 +50,9 @@ enum Command {
     Export(cmd::export::Args),
 }
 
-/// The fit options of `stfit report` given on its command line (not defaulted), as flags.
+/// The fit options given on the command line (not defaulted) of `matches`, as flags such as
+/// `--log-floor`: the default command's, or `stfit report`'s.
 fn given_fit_flags(matches: &clap::ArgMatches) -> Vec<String> {
-    let Some(report) = matches.subcommand_matches("report") else {
-        return Vec::new();
-    };
     let ids = [
         "model",
         "gamma",
@@ -67,25 +65,39 @@ fn given_fit_flags(matches: &clap::ArgMatches) -> Vec<String> {
         "orders",
         "walks",
         "seed",
+        "multiple_term",
     ];
     ids.iter()
-        .filter(|id| report.value_source(id) == Some(ValueSource::CommandLine))
-        .map(|id| format!("--{id}"))
+        .filter(|id| matches.value_source(id) == Some(ValueSource::CommandLine))
+        .map(|id| format!("--{}", id.replace('_', "-")))
         .collect()
 }
 
 fn main() -> ExitCode {
-    let matches = Cli::command().get_matches();
+    // A report always fits the four models of --model all: its help hides --model and --gamma.
+    let matches = Cli::command()
+        .mut_subcommand("report", |report| {
+            report
+                .mut_arg("model", |a| a.hide(true))
+                .mut_arg("gamma", |a| a.hide(true))
+        })
+        .get_matches();
     let cli = match Cli::from_arg_matches(&matches) {
         Ok(cli) => cli,
         Err(e) => e.exit(),
     };
     let result = match cli.command {
-        None => cmd::fit::run(cli.fit),
+        None => cmd::fit::run(cli.fit, &given_fit_flags(&matches)),
         Some(Command::Synth(args)) => cmd::synth::run(args),
         Some(Command::Eval(args)) => cmd::eval::run(&args),
         Some(Command::Albedo(args)) => cmd::albedo::run(&args),
-        Some(Command::Report(args)) => cmd::report::run(args, &given_fit_flags(&matches)),
+        Some(Command::Report(args)) => {
+            let given = matches
+                .subcommand_matches("report")
+                .map(given_fit_flags)
+                .unwrap_or_default();
+            cmd::report::run(args, &given)
+        }
         Some(Command::Tables(args)) => cmd::tables::run(*args),
         Some(Command::Export(args)) => cmd::export::run(&args),
     };

@@ -491,3 +491,140 @@ fn short_walk_runs_print_no_cost_note() {
     e.ok();
     assert!(e.stderr.is_empty(), "{}", e.stderr);
 }
+
+/// Fit options that do not apply to the chosen orders or loss are refused (exit 2, the flag
+/// named) rather than silently ignored, in the fit command and in `stfit report`; the report's
+/// help does not list the --model and --gamma it refuses.
+#[test]
+fn fit_options_that_do_not_apply_are_refused() {
+    let dir = CaseDir::new("limits-inapplicable");
+    let data = dir.join("d.csv");
+    stfit(&[
+        "synth",
+        "--model",
+        "ggx",
+        "--alpha",
+        "0.3",
+        "--out",
+        data.to_str().unwrap(),
+    ])
+    .ok();
+    let d = data.to_str().unwrap();
+    let out = dir.join("report");
+    let o = out.to_str().unwrap();
+    let cases: [(Vec<&str>, &str); 6] = [
+        (
+            vec![d, "--walks", "5000"],
+            "--walks applies to --orders all",
+        ),
+        (vec![d, "--seed", "3"], "--seed applies to --orders all"),
+        (
+            vec![d, "--multiple-term", "exact"],
+            "--multiple-term applies",
+        ),
+        (
+            vec![d, "--log-floor", "0.01"],
+            "--log-floor applies to --loss log",
+        ),
+        (
+            vec!["report", d, "--out", o, "--seed", "2"],
+            "--seed applies",
+        ),
+        (
+            vec![
+                "report",
+                d,
+                "--out",
+                o,
+                "--log-floor",
+                "0.1",
+                "--loss",
+                "sqrt",
+            ],
+            "--log-floor applies",
+        ),
+    ];
+    for (args, needle) in cases {
+        let err = stfit(&args).fails_with(2).to_string();
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+    assert!(
+        !out.exists(),
+        "nothing is written when an option is refused"
+    );
+    // Where they apply they are accepted.
+    stfit(&[d, "--loss", "log", "--log-floor", "0.01", "--model", "ggx"]).ok();
+    let help = stfit(&["report", "--help"]).ok().to_string();
+    assert!(help.contains("--eta") && !help.contains("--model") && !help.contains("--gamma"));
+}
+
+/// Fits the data cannot determine are flagged, never reported with meaningless standard
+/// errors: a scale held 300 decades from the data's, and 20,000 copies of one measurement
+/// (one informative direction pair).
+#[test]
+fn undetermined_fits_are_flagged_singular() {
+    let dir = CaseDir::new("limits-undetermined");
+    let data = dir.join("d.csv");
+    stfit(&[
+        "synth",
+        "--model",
+        "ggx",
+        "--alpha",
+        "0.3",
+        "--out",
+        data.to_str().unwrap(),
+    ])
+    .ok();
+    let run = stfit(&[
+        data.to_str().unwrap(),
+        "--model",
+        "ggx",
+        "--scale",
+        "1e-300",
+        "--json",
+    ]);
+    let json = run.ok().to_string();
+    assert!(
+        json.contains("singular") || json.contains("Singular"),
+        "{json}"
+    );
+    assert!(!json.contains("e147") && !json.contains("e+1"), "{json}");
+    let mut copies = String::from("theta_i_deg,theta_o_deg,L\n");
+    for _ in 0..20_000 {
+        copies.push_str("10,190,0.5\n");
+    }
+    let one = dir.file("copies.csv", copies);
+    let run = stfit(&[one.to_str().unwrap(), "--model", "ggx"]);
+    let table = run.ok().to_string();
+    assert!(table.contains("few-points"), "{table}");
+    assert!(run.stderr.contains("only 1 informative"), "{}", run.stderr);
+}
+
+/// Out-of-range values are named in the range that applies (a fit's eta in [1.05, 3]), and
+/// empty or huge numbers in messages are short.
+#[test]
+fn messages_name_the_range_that_applies_and_stay_short() {
+    let err = stfit(&["x.csv", "--eta", "1e300"])
+        .fails_with(2)
+        .to_string();
+    assert!(err.contains("[1.05, 3]") && err.contains("1e300"), "{err}");
+    let err = stfit(&["x.csv", "--scale=-1e-300"])
+        .fails_with(2)
+        .to_string();
+    assert!(err.contains("-1e-300") && err.len() < 200, "{err}");
+    let synth = ["synth", "--model", "ggx", "--alpha", "0.3"];
+    let err = stfit(&[&synth[..], &["--noise=-1e-300"]].concat())
+        .fails_with(2)
+        .to_string();
+    assert!(err.contains("-1e-300") && err.len() < 200, "{err}");
+    let err = stfit(&[&synth[..], &["--noise", "1e308"]].concat())
+        .fails_with(2)
+        .to_string();
+    assert!(err.contains("1e308") && err.len() < 200, "{err}");
+    for list in ["", "10,,20", "0:10:"] {
+        let err = stfit(&[&synth[..], &["--theta-i", list]].concat())
+            .fails_with(2)
+            .to_string();
+        assert!(err.contains("empty"), "{list}: {err}");
+    }
+}

@@ -185,9 +185,24 @@ impl FitOptionArgs {
         })
     }
 
-    /// The fit options, or a usage error.
-    pub fn fit_options(&self) -> Result<FitOptions, CmdError> {
+    /// The fit options, or a usage error. `given` lists the fit flags given on the command
+    /// line (such as `--walks`): those that do not apply to the chosen orders or loss are
+    /// refused rather than silently ignored.
+    pub fn fit_options(&self, given: &[String]) -> Result<FitOptions, CmdError> {
         let orders = ScatteringOrders::from(self.orders);
+        let given = |flag: &str| given.iter().any(|g| g == flag);
+        if orders == ScatteringOrders::Single {
+            for flag in ["--walks", "--seed", "--multiple-term"] {
+                if given(flag) {
+                    return Err(usage(format!(
+                        "{flag} applies to --orders all only (single scattering is analytic)"
+                    )));
+                }
+            }
+        }
+        if self.loss != LossArg::Log && given("--log-floor") {
+            return Err(usage("--log-floor applies to --loss log only"));
+        }
         if orders == ScatteringOrders::Multiple {
             return Err(usage(
                 "--orders multiple (orders >= 2 only) models no measurement: fit with --orders \
@@ -206,7 +221,10 @@ impl FitOptionArgs {
                 if s.is_finite() && s > 0.0 {
                     Ok(s)
                 } else {
-                    Err(format!("the scale must be finite and > 0, got {s}"))
+                    Err(format!(
+                        "the scale must be finite and > 0, got {}",
+                        stfit_fit::pairs::format_number(s)
+                    ))
                 }
             })?,
             loss: match self.loss {
@@ -219,7 +237,7 @@ impl FitOptionArgs {
             } else {
                 return Err(usage(format!(
                     "--log-floor: the floor must be finite and > 0, got {}",
-                    self.log_floor
+                    stfit_fit::pairs::format_number(self.log_floor)
                 )));
             },
             optimizer: match self.optimizer {
@@ -241,13 +259,13 @@ impl FitOptionArgs {
 }
 
 /// Runs the fit command.
-pub fn run(args: FitArgs) -> CmdResult {
+pub fn run(args: FitArgs, given: &[String]) -> CmdResult {
     args.retired.check()?;
     if args.data.is_empty() {
         return Err(usage("a DATA file is required"));
     }
     let specs = args.options.specs()?;
-    let opts = args.options.fit_options()?;
+    let opts = args.options.fit_options(given)?;
     if let Some(out) = &args.out {
         if let Some(path) = args.data.iter().find(|p| same_file(out, p)) {
             return Err(usage(format!(

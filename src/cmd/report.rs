@@ -73,7 +73,7 @@ pub fn run(args: ReportArgs, given: &[String]) -> CmdResult {
     }
     let source = match &args.fits {
         Some(path) => Source::Stored(path),
-        None => Source::Fit(args.fit.fit_options()?),
+        None => Source::Fit(args.fit.fit_options(given)?),
     };
     let data = selected(
         stfit_fit::load_paths(&args.data).map_err(failed)?,

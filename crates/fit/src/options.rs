@@ -108,9 +108,8 @@ pub const ETA_MAX: f64 = 3.0;
 
 /// Validates the glass index of a fit: in [[`ETA_MIN`], [`ETA_MAX`]].
 pub fn check_fit_eta(eta: f64) -> Result<f64, stfit_core::ParamError> {
-    let eta = check_eta(eta)?;
     if (ETA_MIN..=ETA_MAX).contains(&eta) {
-        Ok(eta)
+        check_eta(eta)
     } else {
         Err(stfit_core::ParamError::OutOfRange {
             name: "eta",

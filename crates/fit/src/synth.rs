@@ -19,6 +19,7 @@ use crate::load::{
     read_header,
 };
 use crate::model::Model;
+use crate::pairs::format_number;
 
 /// Most points one synthetic sample may have (guards against a mistyped grid step).
 pub const MAX_POINTS: usize = 1_000_000;
@@ -43,10 +44,10 @@ pub enum SynthError {
     #[error(transparent)]
     Model(#[from] FitError),
     /// The noise level must be finite and >= 0.
-    #[error("noise must be finite and >= 0, got {0}")]
+    #[error("noise must be finite and >= 0, got {}", format_number(*.0))]
     Noise(f64),
     /// An angle outside the range of its column.
-    #[error("{column} = {value} is out of range; must be in {range}")]
+    #[error("{column} = {} is out of range; must be in {range}", format_number(*value))]
     Angle {
         column: &'static str,
         value: f64,
@@ -247,8 +248,9 @@ impl SynthSpec {
             p.value = (v * (1.0 + self.noise * z)).max(0.0);
             if !p.value.is_finite() {
                 return Err(SynthError::Model(FitError::NotRepresentable(format!(
-                    "point {k}: the value {v:e} with noise {} overflows",
-                    self.noise
+                    "point {} (counting from 1): the value {v:e} with noise {} overflows",
+                    k + 1,
+                    format_number(self.noise)
                 ))));
             }
         }
@@ -407,8 +409,14 @@ pub fn parse_angle_list(text: &str) -> Result<Vec<f64>, String> {
     let mut angles = Vec::new();
     for item in text.split(',') {
         let item = item.trim();
+        if item.is_empty() {
+            return Err(format!("empty item in the list '{text}'"));
+        }
         let parts: Vec<&str> = item.split(':').collect();
         let num = |s: &str| -> Result<f64, String> {
+            if s.trim().is_empty() {
+                return Err(format!("empty number in '{item}'"));
+            }
             let x: f64 = s
                 .trim()
                 .parse()
