@@ -19,6 +19,7 @@ use stfit_report::{ReportError, ReportOptions, YScale, fits_table, render_report
 use crate::bsdf::masking;
 use crate::data::{PyDataset, dataset_of};
 use crate::errors::{arg_error, fit_error, os_error, value_error};
+use crate::ints;
 use crate::walk::orders;
 
 /// A parameter given as a number or `"free"`.
@@ -143,8 +144,8 @@ pub fn fit(
     optimizer: &str,
     masking: Option<&str>,
     orders: &str,
-    walks: u64,
-    seed: u64,
+    #[pyo3(from_py_with = ints::walks)] walks: u64,
+    #[pyo3(from_py_with = ints::seed)] seed: u64,
     multiple_term: &str,
 ) -> PyResult<Vec<PyFitResult>> {
     let specs = specs(model, gamma)?;
@@ -427,7 +428,7 @@ pub fn synth(
     gamma: Option<f64>,
     scale: f64,
     noise: f64,
-    seed: u64,
+    #[pyo3(from_py_with = ints::seed)] seed: u64,
     grid: &str,
     theta_i: Option<&Bound<'_, PyAny>>,
     phi_i: Option<&Bound<'_, PyAny>>,
@@ -436,7 +437,7 @@ pub fn synth(
     eta: f64,
     masking: Option<&str>,
     orders: &str,
-    walks: u64,
+    #[pyo3(from_py_with = ints::walks)] walks: u64,
     sample: &str,
     out: Option<PathBuf>,
 ) -> PyResult<PyDataset> {
@@ -539,8 +540,8 @@ pub fn report(
     optimizer: &str,
     masking: Option<&str>,
     orders: &str,
-    walks: u64,
-    seed: u64,
+    #[pyo3(from_py_with = ints::walks)] walks: u64,
+    #[pyo3(from_py_with = ints::seed)] seed: u64,
     multiple_term: &str,
 ) -> PyResult<Vec<PathBuf>> {
     let opts = ReportOptions {

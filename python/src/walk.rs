@@ -10,6 +10,7 @@ use stfit_core::walk::{AlbedoEstimate, DEFAULT_ALBEDO_WALKS, DEFAULT_EVAL_WALKS,
 
 use crate::arrays::{Dirs, Pairing, check_unit, values};
 use crate::errors::{arg_error, value_error};
+use crate::ints;
 use crate::ndf::{any_ndf, ndf_object};
 
 /// Parses orders: `single`, `multiple` or `all`.
@@ -81,7 +82,12 @@ impl PyMicrosurface {
     /// Fractions of the flux arriving from the unit direction `wi` that leave on its side
     /// (reflectance) and on the other (transmittance), from `walks` random walks.
     #[pyo3(signature = (wi, walks = DEFAULT_ALBEDO_WALKS, seed = 1))]
-    fn albedo(&self, wi: &Bound<'_, PyAny>, walks: u64, seed: u64) -> PyResult<Albedo> {
+    fn albedo(
+        &self,
+        wi: &Bound<'_, PyAny>,
+        #[pyo3(from_py_with = ints::walks)] walks: u64,
+        #[pyo3(from_py_with = ints::seed)] seed: u64,
+    ) -> PyResult<Albedo> {
         let py = wi.py();
         let wi = Dirs::new(wi, "wi")?;
         if !wi.shape.is_empty() {
@@ -107,8 +113,8 @@ impl PyMicrosurface {
         &self,
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
-        walks: u64,
-        seed: u64,
+        #[pyo3(from_py_with = ints::walks)] walks: u64,
+        #[pyo3(from_py_with = ints::seed)] seed: u64,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
         let py = wi.py();
         let (wi, wo) = (Dirs::new(wi, "wi")?, Dirs::new(wo, "wo")?);
