@@ -8,6 +8,7 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 use stfit_core::ScatteringOrders;
+use stfit_fit::options::check_fit_walks;
 use stfit_fit::synth::{SynthSpec, parse_angle_list, write_file};
 use stfit_fit::{
     DEFAULT_ETA, DEFAULT_LOG_FLOOR, DEFAULT_WALKS, FitOptions, FitResult, FitsFile, Gamma, Grid,
@@ -40,7 +41,8 @@ fn parameter(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Parameter> {
 }
 
 /// The fit options of the keyword arguments, checked together (`FitOptions::check`): `eta`
-/// defaults to [`DEFAULT_ETA`] held, `scale` to free, as on the command line.
+/// defaults to [`DEFAULT_ETA`] held, `scale` to free, as on the command line, and the walks of
+/// an all-orders fit are checked as `--walks` is ([`check_fit_walks`]), named `walks`.
 #[allow(clippy::too_many_arguments)]
 fn fit_options(
     eta: Option<&Bound<'_, PyAny>>,
@@ -55,6 +57,9 @@ fn fit_options(
     multiple_term: &str,
 ) -> PyResult<FitOptions> {
     let orders = orders(orders_name)?;
+    if orders == ScatteringOrders::All {
+        check_fit_walks(walks).map_err(|e| arg_error("walks", e))?;
+    }
     let masking = orders
         .masking(masking_name.map(masking).transpose()?)
         .map_err(|e| arg_error("masking", e))?;

@@ -115,13 +115,14 @@ class RoughDielectric:
 
 class Albedo:
     """Fractions of the incident flux leaving on the light's side (``reflectance``) and the
-    other (``transmittance``), with standard errors, ``mean_bounces``, the fraction
+    other (``transmittance``), with standard errors (None with fewer than 2 walks, where they
+    are undefined, as ``stfit albedo --json`` gives null), ``mean_bounces``, the fraction
     ``truncated`` dropped at the safety cap, and ``walks``."""
 
     reflectance: float
     transmittance: float
-    reflectance_stderr: float
-    transmittance_stderr: float
+    reflectance_stderr: Optional[float]
+    transmittance_stderr: Optional[float]
     mean_bounces: float
     truncated: float
     walks: int
@@ -141,7 +142,8 @@ class Microsurface:
     def orders(self) -> str: ...
     def albedo(self, wi: ArrayLike, walks: int = 1_000_000, seed: int = 1) -> Albedo:
         """The albedo for light from the single unit direction ``wi`` (shape (3,)), from
-        ``walks`` walks; parallel, identical for a seed whatever the number of threads."""
+        ``walks`` walks (in [1, 1e9], else ValueError); parallel, identical for a seed whatever
+        the number of threads."""
     def eval(
         self, wi: ArrayLike, wo: ArrayLike, walks: int = 100_000, seed: int = 1
     ) -> tuple[FloatOrArray, FloatOrArray]:
@@ -149,7 +151,9 @@ class Microsurface:
         share a ``wi`` share one set of ``walks`` walks, seeded by the direction and ``seed``;
         with dielectric or conductor facets every pair adds a quarter as many walks from its
         ``wo``, toward ``wi``, weighted path by path against those from ``wi`` (bidirectional
-        estimates). Each estimate depends on its pair and the seed only."""
+        estimates). Each estimate depends on its pair and the seed only. ``walks`` is in
+        [1, 1e9] (else ValueError); with 1 walk the standard errors are undefined and given as
+        NaN (``stfit eval`` leaves them empty)."""
 
 class Dataset:
     """Measurements: named samples of points (angles, value ``L`` or BSDF, weight)."""
@@ -241,8 +245,8 @@ def fit(
     """Fits ``model`` ('beckmann', 'ggx', 'student-t' or 'all': the four models Beckmann, GGX,
     Student-T with gamma = 3 and with gamma free) to every sample, with the command line's
     options and defaults: ``eta`` 1.51 (a number or 'free'), ``scale`` 'free' (or a number),
-    ``orders`` 'single' or 'all' (the random walk's orders >= 2 added, ``walks`` per incidence
-    from ``seed``; ``multiple_term`` 'surrogate' interpolates that term between a few walk
+    ``orders`` 'single' or 'all' (the random walk's orders >= 2 added, ``walks`` per incidence,
+    in [2, 1e9], from ``seed``; ``multiple_term`` 'surrogate' interpolates that term between a few walk
     sets while searching, 'exact' walks at every evaluation), ``masking`` separable for single
     scattering. Raises ValueError for bad
     options, LoadError for bad data, FitError for a fit that cannot be made."""

@@ -21,44 +21,45 @@ def _ground_ggx():
 
 
 SEEDED = {
-    "sample_visible": lambda seed: stfit.Ggx(0.3).sample_visible(UP, seed=seed),
-    "sample": lambda seed: stfit.RoughDielectric(stfit.Ggx(0.3), 1.5).sample(UP, seed=seed),
-    "albedo": lambda seed: _walk().albedo(UP, walks=10, seed=seed),
-    "eval": lambda seed: _walk().eval(UP, DOWN, walks=10, seed=seed),
-    "fit": lambda seed: stfit.fit(str(EXAMPLE), orders="all", seed=seed),
-    "synth": lambda seed: stfit.synth("ggx", 0.3, seed=seed),
-    "report": lambda seed: stfit.report(str(EXAMPLE), out="/nonexistent/x", seed=seed),
-    "export": lambda seed: stfit.export(_ground_ggx(), to="radiance", seed=seed),
-    "tables": lambda seed: stfit.tables("ggx", orders="all", seed=seed),
+    "sample_visible": lambda seed, out: stfit.Ggx(0.3).sample_visible(UP, seed=seed),
+    "sample": lambda seed, out: stfit.RoughDielectric(stfit.Ggx(0.3), 1.5).sample(UP, seed=seed),
+    "albedo": lambda seed, out: _walk().albedo(UP, walks=10, seed=seed),
+    "eval": lambda seed, out: _walk().eval(UP, DOWN, walks=10, seed=seed),
+    "fit": lambda seed, out: stfit.fit(str(EXAMPLE), orders="all", seed=seed),
+    "synth": lambda seed, out: stfit.synth("ggx", 0.3, seed=seed),
+    "report": lambda seed, out: stfit.report(str(EXAMPLE), out=out, orders="all", seed=seed),
+    "export": lambda seed, out: stfit.export(_ground_ggx(), to="radiance", seed=seed),
+    "tables": lambda seed, out: stfit.tables("ggx", orders="all", seed=seed),
 }
 
 WALKED = {
-    "albedo": lambda walks: _walk().albedo(UP, walks=walks),
-    "eval": lambda walks: _walk().eval(UP, DOWN, walks=walks),
-    "fit": lambda walks: stfit.fit(str(EXAMPLE), orders="all", walks=walks),
-    "synth": lambda walks: stfit.synth("ggx", 0.3, orders="all", walks=walks),
-    "report": lambda walks: stfit.report(str(EXAMPLE), out="/nonexistent/x", walks=walks),
-    "export": lambda walks: stfit.export(_ground_ggx(), to="radiance", walks=walks),
-    "tables": lambda walks: stfit.tables("ggx", orders="all", walks=walks),
+    "albedo": lambda walks, out: _walk().albedo(UP, walks=walks),
+    "eval": lambda walks, out: _walk().eval(UP, DOWN, walks=walks),
+    "fit": lambda walks, out: stfit.fit(str(EXAMPLE), orders="all", walks=walks),
+    "synth": lambda walks, out: stfit.synth("ggx", 0.3, orders="all", walks=walks),
+    "report": lambda walks, out: stfit.report(str(EXAMPLE), out=out, orders="all",
+                                             walks=walks),
+    "export": lambda walks, out: stfit.export(_ground_ggx(), to="radiance", walks=walks),
+    "tables": lambda walks, out: stfit.tables("ggx", orders="all", walks=walks),
 }
 
 
 @pytest.mark.parametrize("value", [-1, 2**64, 10**30, True])
 @pytest.mark.parametrize("call", SEEDED.values(), ids=SEEDED.keys())
-def test_seeds_outside_u64_raise_value_error_naming_seed(call, value):
+def test_seeds_outside_u64_raise_value_error_naming_seed(call, value, tmp_path):
     """A seed that is negative, 2^64 or more, or a bool is a ValueError naming `seed` and
     the range [0, 2^64), not an OverflowError (nor a bool taken for 1)."""
     with pytest.raises(ValueError, match=r"seed: .*\[0, 2\^64\)"):
-        call(value)
+        call(value, tmp_path / "report")
 
 
 @pytest.mark.parametrize("value", [-1, 2**64, True])
 @pytest.mark.parametrize("call", WALKED.values(), ids=WALKED.keys())
-def test_walks_outside_u64_raise_value_error_naming_walks(call, value):
+def test_walks_outside_u64_raise_value_error_naming_walks(call, value, tmp_path):
     """A number of walks that is negative, 2^64 or more, or a bool is a ValueError naming
     `walks` and the range of walks [1, 1e9], not an OverflowError."""
     with pytest.raises(ValueError, match=r"walks: .*\[1, 1000000000\]"):
-        call(value)
+        call(value, tmp_path / "report")
 
 
 @pytest.mark.parametrize("index, count, name", [(-1, 2, "index"), (1, 2**64, "count"),
@@ -76,3 +77,57 @@ def test_numpy_integers_are_accepted_as_walks_and_seed():
     a = _walk().albedo(UP, walks=np.int64(64), seed=np.uint64(3))
     b = _walk().albedo(UP, walks=64, seed=3)
     assert (a.reflectance, a.transmittance, a.walks) == (b.reflectance, b.transmittance, 64)
+
+
+@pytest.mark.parametrize("walks", [0, 10**9 + 1, 2**63])
+@pytest.mark.parametrize("call", ["albedo", "eval", "export", "synth"])
+def test_walks_outside_core_range_raise_value_error(call, walks, tmp_path):
+    """Walks of one estimate outside core's [1, 1e9] (check_walks) raise a ValueError naming
+    walks and the range before any walk runs (huge counts hung the interpreter)."""
+    with pytest.raises(ValueError, match=r"walks.*\[1, (1e9|1000000000)\]"):
+        WALKED[call](walks, tmp_path / "report")
+
+
+@pytest.mark.parametrize("walks, text", [(1, "at least 2 walks"), (10**9 + 1, "out of range")])
+@pytest.mark.parametrize("call", ["fit", "report"])
+def test_fit_walks_outside_the_fit_range_raise_value_error(call, walks, text, tmp_path):
+    """An all-orders fit (stfit.fit, stfit.report fitting first) refuses walks outside the
+    fit's [2, 1e9] (check_fit_walks) as `--walks` does, naming walks."""
+    with pytest.raises(ValueError, match=f"^walks: .*{text}"):
+        WALKED[call](walks, tmp_path / "report")
+
+
+def test_one_walk_has_no_standard_error():
+    """With 1 walk the standard errors are undefined, as on the command line: eval gives NaN
+    (stfit eval an empty field), albedo None (stfit albedo --json null); 2 walks give numbers."""
+    import math
+
+    m = _walk()
+    mean, se = m.eval(UP, DOWN, walks=1)
+    assert math.isfinite(mean) and math.isnan(se)
+    means, ses = m.eval([UP, UP], [DOWN, DOWN], walks=1)
+    assert all(math.isnan(s) for s in ses)
+    a = m.albedo(UP, walks=1)
+    assert a.reflectance_stderr is None and a.transmittance_stderr is None
+    assert "+-" not in repr(a)
+    a = m.albedo(UP, walks=2)
+    assert a.reflectance_stderr is not None and a.transmittance_stderr is not None
+    assert math.isfinite(m.eval(UP, DOWN, walks=2)[1])
+
+
+def test_one_walk_agrees_with_the_cli(cli):
+    """Python's eval and albedo with 1 walk give the command line's values and its missing
+    standard errors (NaN for its empty field, None for its null)."""
+    import json
+    import math
+
+    out = cli("eval", "--ndf", "ggx", "--alpha", "0.3", "--eta", "1.5", "--orders", "all",
+              "--walks", "1", stdin="wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,-1\n")
+    row = out.splitlines()[1].split(",")
+    mean, se = _walk().eval(UP, DOWN, walks=1)
+    assert row[-1] == "" and math.isnan(se) and float(row[-2]) == mean
+    out = json.loads(cli("albedo", "--ndf", "ggx", "--alpha", "0.3", "--eta", "1.5",
+                         "--theta-i", "0", "--walks", "1", "--json"))
+    a = _walk().albedo(UP, walks=1)
+    assert out["reflectance_stderr"] is None and a.reflectance_stderr is None
+    assert (out["reflectance"], out["transmittance"]) == (a.reflectance, a.transmittance)
