@@ -8,6 +8,7 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 use stfit_core::ScatteringOrders;
+use stfit_fit::conventions::{THETA_I_RANGE, THETA_O_RANGE, theta_i_in_range, theta_o_in_range};
 use stfit_fit::options::check_fit_walks;
 use stfit_fit::synth::{SynthSpec, parse_angle_list, write_file};
 use stfit_fit::{
@@ -316,7 +317,8 @@ impl PyFitResult {
     }
 
     /// The fitted model's value at in-plane configurations (`L`, the data convention):
-    /// arrays of `theta_i_deg` in [0, 90) and `theta_o_deg` in (90, 270).
+    /// arrays of `theta_i_deg` in [0, 90) and `theta_o_deg` in (90, 270), the ranges of
+    /// `data-format.md`; an angle outside them (NaN included) is a `ValueError` naming it.
     fn predict(
         &self,
         py: Python<'_>,
@@ -328,6 +330,8 @@ impl PyFitResult {
                 "theta_i_deg and theta_o_deg must have the same length",
             ));
         }
+        check_angles("theta_i_deg", &theta_i_deg, THETA_I_RANGE, theta_i_in_range)?;
+        check_angles("theta_o_deg", &theta_o_deg, THETA_O_RANGE, theta_o_in_range)?;
         let angles: Vec<(f64, f64)> = theta_i_deg.into_iter().zip(theta_o_deg).collect();
         let model = self.0.model;
         py.detach(|| model.predict(&angles)).map_err(value_error)
@@ -366,6 +370,23 @@ impl PyFitResult {
             self.0.model.alpha,
             self.0.rmse_sqrt_l
         )
+    }
+}
+
+/// The first of the angles `values` (degrees) outside `range` (`in_range`, the data format's
+/// rule) as a `ValueError` naming the argument `name` and the index.
+fn check_angles(
+    name: &str,
+    values: &[f64],
+    range: &str,
+    in_range: fn(f64) -> bool,
+) -> PyResult<()> {
+    match values.iter().position(|&v| !in_range(v)) {
+        None => Ok(()),
+        Some(k) => Err(value_error(format!(
+            "{name}[{k}] = {} is out of range; must be in {range} degrees",
+            values[k]
+        ))),
     }
 }
 

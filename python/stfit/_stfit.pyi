@@ -217,7 +217,9 @@ class FitResult:
     stfit_version: str
     def label(self) -> str: ...
     def predict(self, theta_i_deg: Sequence[float], theta_o_deg: Sequence[float]) -> list[float]:
-        """The fitted model's ``L`` at in-plane configurations (theta_i in [0, 90), theta_o in (90, 270))."""
+        """The fitted model's ``L`` at in-plane configurations (theta_i in [0, 90), theta_o in
+        (90, 270), degrees, as in data-format.md); an angle outside them, NaN included, raises
+        ValueError naming it."""
     def to_json(self) -> str:
         """The record as JSON text, exactly as in the fits file."""
     def to_dict(self) -> dict[str, Any]:

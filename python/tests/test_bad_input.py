@@ -131,3 +131,29 @@ def test_one_walk_agrees_with_the_cli(cli):
     a = _walk().albedo(UP, walks=1)
     assert out["reflectance_stderr"] is None and a.reflectance_stderr is None
     assert (out["reflectance"], out["transmittance"]) == (a.reflectance, a.transmittance)
+
+
+@pytest.mark.parametrize("theta_i, theta_o, text", [
+    (95.0, 180.0, r"theta_i_deg\[1\] = 95 is out of range; must be in \[0, 90\)"),
+    (90.0, 180.0, r"theta_i_deg\[1\] = 90 is out of range"),
+    (-1.0, 180.0, r"theta_i_deg\[1\] = -1 "),
+    (float("nan"), 180.0, r"theta_i_deg\[1\] = NaN "),
+    (30.0, 50.0, r"theta_o_deg\[1\] = 50 is out of range; must be in \(90, 270\)"),
+    (30.0, 270.0, r"theta_o_deg\[1\] = 270 "),
+    (30.0, float("inf"), r"theta_o_deg\[1\] = inf "),
+])
+def test_predict_refuses_angles_outside_the_data_format(theta_i, theta_o, text):
+    """FitResult.predict refuses in-plane angles outside data-format.md's ranges (theta_i in
+    [0, 90), theta_o in (90, 270), NaN included) with a ValueError naming the argument, its
+    index and the range, where it returned 0."""
+    fit = _ground_ggx()
+    with pytest.raises(ValueError, match=text):
+        fit.predict([30.0, theta_i], [180.0, theta_o])
+
+
+def test_predict_in_range_is_unchanged():
+    """Angles inside the ranges, at their edges too, predict positive finite values."""
+    import math
+
+    values = _ground_ggx().predict([0.0, 30.0, 89.9], [180.0, 90.1, 269.9])
+    assert all(math.isfinite(v) and v >= 0 for v in values) and values[0] > 0
