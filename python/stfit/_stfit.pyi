@@ -178,8 +178,12 @@ class Dataset:
 def load(source: DataSource, *, sample: Optional[str] = None) -> Dataset:
     """Reads measurements (data-format.md): a CSV file (in-plane or general) or pab-opto file, a
     folder of them, a list of paths, or in-memory columns named as a file's header (a mapping of
-    names to arrays, or a pandas DataFrame), validated by the same rules. Raises LoadError with
-    the file, line and column of the first problem."""
+    names to arrays, or a pandas DataFrame), validated by the same rules: the names are strings,
+    each column is 1-D (one value per row), the number columns (angles, ``L``, ``sqrt_L``,
+    ``bsdf``, ``weight``) have an integer or float dtype (booleans, complex numbers and text are
+    refused, not converted), and a missing sample name (None, NaN, pandas' NA) is refused as an
+    empty one. Raises LoadError with the file (``<arrays>``, ``<DataFrame>`` for columns), line
+    (row k is line k + 2) and column of the first problem."""
 
 class FitResult:
     """One model fitted to one sample: every key of a record of the fits JSON

@@ -157,3 +157,150 @@ def test_predict_in_range_is_unchanged():
 
     values = _ground_ggx().predict([0.0, 30.0, 89.9], [180.0, 90.1, 269.9])
     assert all(math.isfinite(v) and v >= 0 for v in values) and values[0] > 0
+
+
+ROWS = {"sample": ["a", "a", "a"], "theta_i_deg": [0.0, 0.0, 30.0],
+        "theta_o_deg": [180.0, 170.0, 190.0], "L": [1.0, 0.5, 0.7]}
+
+
+def _frame(**columns):
+    pd = pytest.importorskip("pandas")
+    return pd.DataFrame({**ROWS, **columns})
+
+
+@pytest.mark.parametrize("missing", [None, float("nan"), "pd.NA", "pd.NaT"])
+@pytest.mark.parametrize("container", ["list", "object array", "DataFrame"])
+def test_missing_sample_names_are_refused_at_their_row(missing, container):
+    """A missing sample name (None, NaN, pandas' NA or NaT) is a LoadError at its row (line 3
+    for row 1) in the sample column, not a sample called 'None', 'nan' or '<NA>'."""
+    import numpy as np
+    pd = pytest.importorskip("pandas")
+    value = {"pd.NA": pd.NA, "pd.NaT": pd.NaT}.get(missing, missing)
+    names = ["a", value, "a"]
+    if container == "list":
+        source, label = {**ROWS, "sample": names}, "<arrays>"
+    elif container == "object array":
+        source, label = {**ROWS, "sample": np.array(names, dtype=object)}, "<arrays>"
+    else:
+        source, label = _frame(sample=pd.Series(names, dtype=object)), "<DataFrame>"
+    with pytest.raises(stfit.LoadError, match="sample name") as e:
+        stfit.load(source)
+    assert (e.value.file, e.value.line, e.value.column) == (label, 3, "sample")
+
+
+def test_pandas_string_column_with_na_is_refused():
+    """pandas' string dtype with a missing name is refused at its row, not read as '<NA>'."""
+    pd = pytest.importorskip("pandas")
+    frame = _frame(sample=pd.array(["a", None, "a"], dtype="string"))
+    with pytest.raises(stfit.LoadError) as e:
+        stfit.load(frame)
+    assert (e.value.line, e.value.column) == (3, "sample")
+
+
+@pytest.mark.parametrize("column, values, shape", [
+    ("L", [[1.0], [0.5], [0.7]], r"\[3, 1\]"),
+    ("theta_i_deg", [[0.0, 0.0, 30.0]], r"\[1, 3\]"),
+    ("weight", 1.0, r"\[\]"),
+    ("sample", [["a"], ["a"], ["a"]], r"\[3, 1\]"),
+    ("note", [["x"], ["y"], ["z"]], r"\[3, 1\]"),
+])
+def test_columns_that_are_not_1d_are_refused(column, values, shape):
+    """A column of another shape than one value per row (2-D, a scalar) is a LoadError naming
+    the column and its shape, where it was flattened (or broadcast by the loader)."""
+    with pytest.raises(stfit.LoadError, match=f"1-D column.*{shape}") as e:
+        stfit.load({**ROWS, column: values})
+    assert (e.value.file, e.value.line, e.value.column) == ("<arrays>", None, column)
+
+
+@pytest.mark.parametrize("values, dtype", [
+    ("bool", "bool"),
+    ("complex", "complex128"),
+    ("text", "<U3"),
+    ("bytes", r"\|S3"),
+    ("datetime", "datetime64"),
+])
+def test_numeric_columns_of_other_dtypes_are_refused(values, dtype):
+    """A number column (angles, L, weight) must have an integer or float dtype: booleans,
+    complex numbers (truncated with a ComplexWarning), text ('1.0' parsed as a number) and
+    dates are a LoadError naming the column and its dtype."""
+    import numpy as np
+    arrays = {
+        "bool": np.array([True, True, False]),
+        "complex": np.array([1 + 1j, 0.5, 0.7]),
+        "text": np.array(["1.0", "0.5", "0.7"]),
+        "bytes": np.array([b"1.0", b"0.5", b"0.7"]),
+        "datetime": np.array(["2020-01-01"] * 3, dtype="datetime64[D]"),
+    }
+    column = "weight" if values == "bool" else "L"
+    with pytest.raises(stfit.LoadError, match=fr"integer or float dtype\), got dtype {dtype}") as e:
+        stfit.load({**ROWS, column: arrays[values]})
+    assert (e.value.line, e.value.column) == (None, column)
+
+
+@pytest.mark.parametrize("bad, kind", [
+    (True, "bool"), ("0.5", "str"), (0.5 + 0j, "complex"), (b"0.5", "bytes"),
+])
+def test_non_numbers_in_object_arrays_are_refused_at_their_row(bad, kind):
+    """A bool, text or complex element among numbers in an object array is a LoadError at
+    its row, where NumPy converted it to a float ('0.5' parsed, True taken for 1)."""
+    import numpy as np
+    with pytest.raises(stfit.LoadError, match=f"is a {kind}, not a number") as e:
+        stfit.load({**ROWS, "L": np.array([1.0, bad, 0.7], dtype=object)})
+    assert (e.value.line, e.value.column) == (3, "L")
+
+
+def test_bools_among_numbers_in_a_list_are_refused_at_their_row():
+    """A list mixing a bool with floats, which NumPy makes a float array, is a LoadError at
+    the bool's row; text or complex numbers in a list give a text or complex dtype, refused."""
+    with pytest.raises(stfit.LoadError, match="True is a bool, not a number") as e:
+        stfit.load({**ROWS, "L": [1.0, True, 0.7]})
+    assert (e.value.line, e.value.column) == (3, "L")
+    for values, dtype in [([1.0, "0.5", 0.7], "<U32"), ([1.0, 0.5j, 0.7], "complex128")]:
+        with pytest.raises(stfit.LoadError, match=f"got dtype {dtype}"):
+            stfit.load({**ROWS, "L": values})
+
+
+@pytest.mark.parametrize("key", [5, 1.5, ("L", "x"), b"L"])
+@pytest.mark.parametrize("container", ["dict", "DataFrame"])
+def test_column_names_that_are_not_strings_are_refused(key, container):
+    """A column name that is not a string is a LoadError saying so (a DataFrame's gave a
+    KeyError, a dict's a TypeError): a file's header is text."""
+    source = {**ROWS, key: [1, 2, 3]}
+    if container == "DataFrame":
+        source = _frame()
+        source[key] = [1, 2, 3]
+    with pytest.raises(stfit.LoadError, match="column names must be strings") as e:
+        stfit.load(source)
+    assert e.value.column is None
+
+
+def test_repeated_dataframe_column_is_refused_as_in_a_file():
+    """A DataFrame with a column name twice reaches the loader, which refuses the repeated
+    header name, where the two columns were flattened into one of twice the rows."""
+    pd = pytest.importorskip("pandas")
+    frame = pd.concat([_frame(), pd.DataFrame({"L": [1.0, 1.0, 1.0]})], axis=1)
+    with pytest.raises(stfit.LoadError, match="appears twice") as e:
+        stfit.load(frame)
+    assert (e.value.line, e.value.column) == (1, "L")
+
+
+def test_accepted_columns_still_load():
+    """Lists, tuples, integer and float32 arrays, object arrays of numbers, pandas' nullable
+    Int64 and Float64, integer sample names and extra text columns load as before."""
+    import numpy as np
+    pd = pytest.importorskip("pandas")
+    sources = [
+        ROWS,
+        {**ROWS, "L": (1.0, 0.5, 0.7)},
+        {**ROWS, "theta_i_deg": np.array([0, 0, 30]), "L": np.array([1, 0.5, 0.7], np.float32)},
+        {**ROWS, "L": np.array([1.0, 0.5, 0.7], dtype=object)},
+        {**ROWS, "note": ["x", "y", "z"]},
+        _frame(theta_i_deg=pd.array([0, 0, 30], dtype="Int64"),
+               L=pd.array([1.0, 0.5, 0.7], dtype="Float64")),
+        _frame(sample=pd.array(["a", "a", "a"], dtype="string")),
+    ]
+    for source in sources:
+        d = stfit.load(source)
+        assert d.samples == ["a"] and d.n_points == 3
+        assert np.allclose(d.columns()["L"], [1.0, 0.5, 0.7])
+    assert stfit.load({**ROWS, "sample": [1, 2, 1]}).samples == ["1", "2"]
