@@ -152,7 +152,11 @@ impl PyRoughDielectric {
 
     /// One outgoing direction per incident direction `wi`.
     #[pyo3(signature = (wi, seed = 0))]
-    fn sample<'py>(&self, wi: &Bound<'py, PyAny>, seed: u64) -> PyResult<BsdfSamples> {
+    fn sample<'py>(
+        &self,
+        wi: &Bound<'py, PyAny>,
+        #[pyo3(from_py_with = crate::ints::seed)] seed: u64,
+    ) -> PyResult<BsdfSamples> {
         let py = wi.py();
         let wi = Dirs::new(wi, "wi")?;
         let flat = wi.flat()?;

@@ -7,11 +7,14 @@ use std::path::{Path, PathBuf};
 use numpy::PyArray1;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyString, PyTuple};
+use pyo3::types::{PyDict, PyList, PySlice, PyString, PyTuple};
 use stfit_fit::data::Angles;
+use stfit_fit::load::{
+    COL_BSDF, COL_L, COL_PHI_I, COL_PHI_O, COL_SQRT_L, COL_THETA_I, COL_THETA_O, COL_WEIGHT,
+};
 use stfit_fit::{Column, Dataset, load_columns, load_paths};
 
-use crate::errors::{load_error, value_error};
+use crate::errors::{column_error, load_error, value_error};
 
 /// Measurements: one or more named samples, each a list of points with the angles their
 /// source gave, the measured value (`L` or the BSDF) and a weight.
@@ -31,29 +34,202 @@ fn as_path(obj: &Bound<'_, PyAny>) -> Option<PathBuf> {
     }
 }
 
-/// One in-memory column: numbers where they convert to `float64`, else text.
-fn column(name: &str, values: &Bound<'_, PyAny>) -> PyResult<Column> {
+/// The columns a file's rows give as numbers (`data-format.md`): angles, values and weights.
+const NUMBERS: [&str; 8] = [
+    COL_THETA_I,
+    COL_PHI_I,
+    COL_THETA_O,
+    COL_PHI_O,
+    COL_L,
+    COL_SQRT_L,
+    COL_BSDF,
+    COL_WEIGHT,
+];
+
+/// One in-memory column `name` of `source` (`<arrays>` or `<DataFrame>`), which must be 1-D
+/// (one value per row): a column of [`NUMBERS`] as `float64` from integers or floats only (not
+/// booleans, complex numbers or text, which a plain conversion would turn into numbers), the
+/// `sample` column and any other as text, a missing sample name (None, NaN, pandas' NA) as
+/// an empty one, which the loader refuses at its row. Values that do not convert to `float64`
+/// go to the loader as text, which reports the first at its row.
+fn column(source: &str, name: &str, values: &Bound<'_, PyAny>) -> PyResult<Column> {
     let py = values.py();
-    let text = || -> PyResult<Column> {
-        let items: Vec<String> = values
-            .try_iter()?
-            .map(|v| v?.str().map(|s| s.to_string()))
-            .collect::<PyResult<_>>()?;
-        Ok(Column::Text(items))
-    };
-    if name == SAMPLE {
-        return text();
-    }
     let np = py.import("numpy")?;
+    let array = np
+        .call_method1("asarray", (values,))
+        .map_err(|e| column_error(py, source, None, Some(name), e))?;
+    let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+    if shape.len() != 1 {
+        return Err(column_error(
+            py,
+            source,
+            None,
+            Some(name),
+            format!("expected one value per row (a 1-D column), got shape {shape:?}"),
+        ));
+    }
+    if !NUMBERS.contains(&name) {
+        // The values themselves: NumPy turns a NaN among text into the text 'nan'.
+        return Ok(Column::Text(texts(values, name == SAMPLE)?));
+    }
+    check_numeric(source, name, values, &array)?;
     let kwargs = PyDict::new(py);
     kwargs.set_item("dtype", np.getattr("float64")?)?;
     match np.getattr("asarray")?.call((values,), Some(&kwargs)) {
-        Ok(a) => {
-            let a = np.getattr("ravel")?.call1((a,))?;
-            Ok(Column::Numbers(a.extract::<Vec<f64>>()?))
-        }
-        Err(_) => text(),
+        Ok(a) => Ok(Column::Numbers(a.extract::<Vec<f64>>()?)),
+        Err(_) => Ok(Column::Text(texts(&array, false)?)),
     }
+}
+
+/// Refuses a numeric column (`array`, from `values`) whose dtype is not integer, float or
+/// object, or that holds a boolean, complex number or text: its row when an element shows it.
+fn check_numeric(
+    source: &str,
+    name: &str,
+    values: &Bound<'_, PyAny>,
+    array: &Bound<'_, PyAny>,
+) -> PyResult<()> {
+    let py = values.py();
+    let dtype = array.getattr("dtype")?;
+    let kind: String = dtype.getattr("kind")?.extract()?;
+    if !matches!(kind.as_str(), "i" | "u" | "f" | "O") {
+        return Err(column_error(
+            py,
+            source,
+            None,
+            Some(name),
+            format!("expected numbers (an integer or float dtype), got dtype {dtype}"),
+        ));
+    }
+    // A list mixing booleans with numbers converts to floats: its elements show them.
+    let items = if kind == "O" {
+        array.clone()
+    } else if values.is_instance_of::<PyList>() || values.is_instance_of::<PyTuple>() {
+        values.clone()
+    } else {
+        return Ok(());
+    };
+    let np = py.import("numpy")?;
+    let builtins = py.import("builtins")?;
+    let not_numbers = PyTuple::new(
+        py,
+        [
+            builtins.getattr("str")?,
+            builtins.getattr("bytes")?,
+            builtins.getattr("bool")?,
+            np.getattr("bool_")?,
+            builtins.getattr("complex")?,
+            np.getattr("complexfloating")?,
+        ],
+    )?;
+    for (k, v) in items.try_iter()?.enumerate() {
+        let v = v?;
+        if v.is_instance(&not_numbers)? {
+            return Err(column_error(
+                py,
+                source,
+                Some(k),
+                Some(name),
+                format!(
+                    "{} is a {}, not a number (give integers or floats)",
+                    v.repr()?,
+                    v.get_type().name()?
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The elements of a 1-D column as text; with `names`, a missing one (None, NaN, pandas' NA
+/// or NaT) as the empty text.
+fn texts(values: &Bound<'_, PyAny>, names: bool) -> PyResult<Vec<String>> {
+    values
+        .try_iter()?
+        .map(|v| {
+            let v = v?;
+            if names && missing(&v)? {
+                Ok(String::new())
+            } else {
+                Ok(v.str()?.to_string())
+            }
+        })
+        .collect()
+}
+
+/// Whether a value is missing: None, a NaN, or what pandas (when loaded) calls missing.
+fn missing(v: &Bound<'_, PyAny>) -> PyResult<bool> {
+    if v.is_none() {
+        return Ok(true);
+    }
+    if v.is_instance_of::<PyString>() {
+        return Ok(false);
+    }
+    if v.extract::<f64>().is_ok_and(f64::is_nan) {
+        return Ok(true);
+    }
+    let modules = v.py().import("sys")?.getattr("modules")?;
+    match modules.get_item("pandas") {
+        Ok(pandas) => Ok(pandas
+            .call_method1("isna", (v,))?
+            .extract::<bool>()
+            .unwrap_or(false)),
+        Err(_) => Ok(false),
+    }
+}
+
+/// A column's key and its values, as a mapping or a DataFrame holds them.
+type Keyed<'py> = (Bound<'py, PyAny>, Bound<'py, PyAny>);
+
+/// The columns of a pandas DataFrame (by position, so that a repeated name reaches the
+/// loader, which refuses it) or of a mapping of column names to arrays, with the source's
+/// label (`<DataFrame>`, `<arrays>`).
+fn keyed_columns<'py>(source: &Bound<'py, PyAny>) -> PyResult<(Vec<Keyed<'py>>, &'static str)> {
+    if source.hasattr("columns")? && source.hasattr("iloc")? {
+        let iloc = source.getattr("iloc")?;
+        let all = PySlice::full(source.py());
+        let columns = source
+            .getattr("columns")?
+            .try_iter()?
+            .enumerate()
+            .map(|(i, c)| Ok((c?, iloc.get_item((&all, i))?)))
+            .collect::<PyResult<_>>()?;
+        return Ok((columns, "<DataFrame>"));
+    }
+    if source.hasattr("keys")? {
+        let columns = source
+            .call_method0("keys")?
+            .try_iter()?
+            .map(|c| {
+                let c = c?;
+                let values = source.get_item(&c)?;
+                Ok((c, values))
+            })
+            .collect::<PyResult<_>>()?;
+        return Ok((columns, "<arrays>"));
+    }
+    Err(PyTypeError::new_err(format!(
+        "stfit.load takes a path, a list of paths, a mapping of column names to arrays or a \
+         pandas DataFrame, got {}",
+        source.get_type().name()?
+    )))
+}
+
+/// A column's name: its key, which must be a string as a file's header is.
+fn column_name(source: &str, key: &Bound<'_, PyAny>) -> PyResult<String> {
+    key.extract().map_err(|_| {
+        let what = match (key.repr(), key.get_type().name()) {
+            (Ok(r), Ok(n)) => format!("{r} ({n})"),
+            _ => "a key that is not a string".to_owned(),
+        };
+        column_error(
+            key.py(),
+            source,
+            None,
+            None,
+            format!("column names must be strings, as in a file's header; got {what}"),
+        )
+    })
 }
 
 /// The dataset of `source`: a path, a list of paths, a mapping of columns or a DataFrame.
@@ -83,45 +259,23 @@ pub fn dataset_of(source: &Bound<'_, PyAny>) -> PyResult<Dataset> {
             .detach(|| load_paths(&paths))
             .map_err(|e| load_error(py, &e));
     }
-    // A pandas DataFrame (its `columns`) or any mapping of column names to arrays.
-    let (names, label): (Vec<String>, &str) = if source.hasattr("columns")?
-        && source.hasattr("iloc")?
-    {
-        (
-            source
-                .getattr("columns")?
-                .try_iter()?
-                .map(|c| c?.str().map(|s| s.to_string()))
-                .collect::<PyResult<_>>()?,
-            "<DataFrame>",
-        )
-    } else if source.hasattr("keys")? {
-        (
-            source
-                .call_method0("keys")?
-                .try_iter()?
-                .map(|c| c?.extract::<String>())
-                .collect::<PyResult<_>>()?,
-            "<arrays>",
-        )
-    } else {
-        return Err(PyTypeError::new_err(format!(
-            "stfit.load takes a path, a list of paths, a mapping of column names to arrays or a \
-             pandas DataFrame, got {}",
-            source.get_type().name()?
-        )));
-    };
-    let columns = names
+    let (keyed, label) = keyed_columns(source)?;
+    let columns = keyed
         .iter()
-        .map(|n| Ok((n.clone(), column(n, &source.get_item(n)?)?)))
+        .map(|(key, values)| {
+            let name = column_name(label, key)?;
+            let values = column(label, &name, values)?;
+            Ok((name, values))
+        })
         .collect::<PyResult<Vec<_>>>()?;
     load_columns(Path::new(label), &columns).map_err(|e| load_error(py, &e))
 }
 
 /// Reads measurements: a measurement file or folder (CSV, in-plane or general, or pab-opto
 /// files), a list of them, or in-memory columns named as a file's header (a mapping of names
-/// to arrays, or a pandas DataFrame), validated by the same rules. With `sample`, keeps only
-/// the sample of that name.
+/// to arrays, or a pandas DataFrame), validated by the same rules (and, for columns, string
+/// names, 1-D columns, numbers of an integer or float dtype: see [`column`]). With `sample`,
+/// keeps only the sample of that name.
 #[pyfunction]
 #[pyo3(signature = (source, *, sample = None))]
 pub fn load(source: &Bound<'_, PyAny>, sample: Option<&str>) -> PyResult<PyDataset> {

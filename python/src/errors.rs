@@ -39,13 +39,62 @@ pub fn os_error(e: impl std::fmt::Display) -> PyErr {
 
 /// A `stfit.LoadError` with its attributes.
 pub fn load_error(py: Python<'_>, e: &stfit_fit::LoadError) -> PyErr {
-    let err = LoadError::new_err(e.to_string());
+    load_error_with(
+        py,
+        e.to_string(),
+        e.file.display().to_string(),
+        e.line,
+        e.column.clone(),
+        e.kind.to_string(),
+    )
+}
+
+/// A `stfit.LoadError` found before the loader runs, about in-memory columns of `source`
+/// (`<arrays>` or `<DataFrame>`): at row `row` (0-based, line `row + 2` as the loader counts)
+/// of `column`, or the column as a whole, or (with neither) the columns. Displayed as the
+/// loader's own errors: `<source>:<line>: column '<column>': <message>`.
+pub fn column_error(
+    py: Python<'_>,
+    source: &str,
+    row: Option<usize>,
+    column: Option<&str>,
+    message: impl std::fmt::Display,
+) -> PyErr {
+    let line = row.map(|k| k as u64 + 2);
+    let mut text = source.to_owned();
+    if let Some(line) = line {
+        text += &format!(":{line}");
+    }
+    if let Some(column) = column {
+        text += &format!(": column '{column}'");
+    }
+    text += &format!(": {message}");
+    load_error_with(
+        py,
+        text,
+        source.to_owned(),
+        line,
+        column.map(str::to_owned),
+        message.to_string(),
+    )
+}
+
+/// A `stfit.LoadError` of text `text` with its attributes.
+fn load_error_with(
+    py: Python<'_>,
+    text: String,
+    file: String,
+    line: Option<u64>,
+    column: Option<String>,
+    message: String,
+) -> PyErr {
+    let err = LoadError::new_err(text);
     let set = || -> PyResult<()> {
         let v = err.value(py);
-        v.setattr("file", e.file.display().to_string())?;
-        v.setattr("line", e.line)?;
-        v.setattr("column", e.column.clone())?;
-        v.setattr("message", e.kind.to_string())
+        v.setattr("file", file)?;
+        v.setattr("line", line)?;
+        v.setattr("column", column)?;
+        v.setattr("message", message)
     };
     match set() {
         Ok(()) => err,

@@ -103,8 +103,8 @@ pub fn export(
     out: Option<PathBuf>,
     layer: &str,
     absorption: f64,
-    walks: u64,
-    seed: u64,
+    #[pyo3(from_py_with = crate::ints::walks)] walks: u64,
+    #[pyo3(from_py_with = crate::ints::seed)] seed: u64,
 ) -> PyResult<Py<PyAny>> {
     let target = target(to)?;
     let radiance = RadianceOptions {

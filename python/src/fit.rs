@@ -8,6 +8,8 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 use stfit_core::ScatteringOrders;
+use stfit_fit::conventions::{THETA_I_RANGE, THETA_O_RANGE, theta_i_in_range, theta_o_in_range};
+use stfit_fit::options::check_fit_walks;
 use stfit_fit::synth::{SynthSpec, parse_angle_list, write_file};
 use stfit_fit::{
     DEFAULT_ETA, DEFAULT_LOG_FLOOR, DEFAULT_WALKS, FitOptions, FitResult, FitsFile, Gamma, Grid,
@@ -19,6 +21,7 @@ use stfit_report::{ReportError, ReportOptions, YScale, fits_table, render_report
 use crate::bsdf::masking;
 use crate::data::{PyDataset, dataset_of};
 use crate::errors::{arg_error, fit_error, os_error, value_error};
+use crate::ints;
 use crate::walk::orders;
 
 /// A parameter given as a number or `"free"`.
@@ -39,7 +42,8 @@ fn parameter(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Parameter> {
 }
 
 /// The fit options of the keyword arguments, checked together (`FitOptions::check`): `eta`
-/// defaults to [`DEFAULT_ETA`] held, `scale` to free, as on the command line.
+/// defaults to [`DEFAULT_ETA`] held, `scale` to free, as on the command line, and the walks of
+/// an all-orders fit are checked as `--walks` is ([`check_fit_walks`]), named `walks`.
 #[allow(clippy::too_many_arguments)]
 fn fit_options(
     eta: Option<&Bound<'_, PyAny>>,
@@ -54,6 +58,9 @@ fn fit_options(
     multiple_term: &str,
 ) -> PyResult<FitOptions> {
     let orders = orders(orders_name)?;
+    if orders == ScatteringOrders::All {
+        check_fit_walks(walks).map_err(|e| arg_error("walks", e))?;
+    }
     let masking = orders
         .masking(masking_name.map(masking).transpose()?)
         .map_err(|e| arg_error("masking", e))?;
@@ -143,8 +150,8 @@ pub fn fit(
     optimizer: &str,
     masking: Option<&str>,
     orders: &str,
-    walks: u64,
-    seed: u64,
+    #[pyo3(from_py_with = ints::walks)] walks: u64,
+    #[pyo3(from_py_with = ints::seed)] seed: u64,
     multiple_term: &str,
 ) -> PyResult<Vec<PyFitResult>> {
     let specs = specs(model, gamma)?;
@@ -310,7 +317,8 @@ impl PyFitResult {
     }
 
     /// The fitted model's value at in-plane configurations (`L`, the data convention):
-    /// arrays of `theta_i_deg` in [0, 90) and `theta_o_deg` in (90, 270).
+    /// arrays of `theta_i_deg` in [0, 90) and `theta_o_deg` in (90, 270), the ranges of
+    /// `data-format.md`; an angle outside them (NaN included) is a `ValueError` naming it.
     fn predict(
         &self,
         py: Python<'_>,
@@ -322,6 +330,8 @@ impl PyFitResult {
                 "theta_i_deg and theta_o_deg must have the same length",
             ));
         }
+        check_angles("theta_i_deg", &theta_i_deg, THETA_I_RANGE, theta_i_in_range)?;
+        check_angles("theta_o_deg", &theta_o_deg, THETA_O_RANGE, theta_o_in_range)?;
         let angles: Vec<(f64, f64)> = theta_i_deg.into_iter().zip(theta_o_deg).collect();
         let model = self.0.model;
         py.detach(|| model.predict(&angles)).map_err(value_error)
@@ -360,6 +370,23 @@ impl PyFitResult {
             self.0.model.alpha,
             self.0.rmse_sqrt_l
         )
+    }
+}
+
+/// The first of the angles `values` (degrees) outside `range` (`in_range`, the data format's
+/// rule) as a `ValueError` naming the argument `name` and the index.
+fn check_angles(
+    name: &str,
+    values: &[f64],
+    range: &str,
+    in_range: fn(f64) -> bool,
+) -> PyResult<()> {
+    match values.iter().position(|&v| !in_range(v)) {
+        None => Ok(()),
+        Some(k) => Err(value_error(format!(
+            "{name}[{k}] = {} is out of range; must be in {range} degrees",
+            values[k]
+        ))),
     }
 }
 
@@ -427,7 +454,7 @@ pub fn synth(
     gamma: Option<f64>,
     scale: f64,
     noise: f64,
-    seed: u64,
+    #[pyo3(from_py_with = ints::seed)] seed: u64,
     grid: &str,
     theta_i: Option<&Bound<'_, PyAny>>,
     phi_i: Option<&Bound<'_, PyAny>>,
@@ -436,7 +463,7 @@ pub fn synth(
     eta: f64,
     masking: Option<&str>,
     orders: &str,
-    walks: u64,
+    #[pyo3(from_py_with = ints::walks)] walks: u64,
     sample: &str,
     out: Option<PathBuf>,
 ) -> PyResult<PyDataset> {
@@ -539,8 +566,8 @@ pub fn report(
     optimizer: &str,
     masking: Option<&str>,
     orders: &str,
-    walks: u64,
-    seed: u64,
+    #[pyo3(from_py_with = ints::walks)] walks: u64,
+    #[pyo3(from_py_with = ints::seed)] seed: u64,
     multiple_term: &str,
 ) -> PyResult<Vec<PathBuf>> {
     let opts = ReportOptions {

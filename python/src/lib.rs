@@ -9,6 +9,7 @@ mod data;
 mod errors;
 mod export;
 mod fit;
+mod ints;
 mod ndf;
 mod tables;
 mod walk;

@@ -137,7 +137,7 @@ macro_rules! ndf_class {
             fn sample_visible<'py>(
                 &self,
                 w: &Bound<'py, PyAny>,
-                seed: u64,
+                #[pyo3(from_py_with = crate::ints::seed)] seed: u64,
             ) -> PyResult<Bound<'py, PyAny>> {
                 sample_visible(self.0.into(), w, seed)
             }

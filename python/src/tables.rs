@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use pyo3::exceptions::{PyOverflowError, PyTypeError};
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use stfit_tables::compute::compute;
 use stfit_tables::format::{Format, c_header, csv, npy, shard};
@@ -15,6 +15,7 @@ use stfit_tables::single::Quadrature;
 use stfit_tables::{Shard, SpecError, Table, TableSpec};
 
 use crate::errors::{arg_error, os_error, value_error};
+use crate::ints;
 
 /// An axis option: the text of `--alpha-grid` and the like (`START:END:COUNT`,
 /// `MAP:START:END:COUNT`, `v1,v2,...`) or a sequence of listed values.
@@ -33,22 +34,6 @@ fn axis(name: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Axis>> 
     Axis::listed(values)
         .map(Some)
         .map_err(|e| arg_error(name, e))
-}
-
-/// A non-negative integer option (`walks`, `seed`): a negative or too large integer is a
-/// `ValueError` naming the option, as any other bad value.
-fn unsigned(name: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<u64>> {
-    let Some(value) = value else {
-        return Ok(None);
-    };
-    match value.extract::<u64>() {
-        Ok(v) => Ok(Some(v)),
-        Err(e) if e.is_instance_of::<PyOverflowError>(value.py()) => Err(arg_error(
-            name,
-            format!("{value} is not an integer in [0, 2^64)"),
-        )),
-        Err(e) => Err(e),
-    }
 }
 
 /// A named choice, as on the command line.
@@ -90,8 +75,8 @@ fn options(
         orders: Choice::parse("orders", orders).map_err(value_error)?,
         masking: Choice::parse("masking", masking).map_err(value_error)?,
         layout: choice("layout", layout)?,
-        walks: unsigned("walks", walks)?,
-        seed: unsigned("seed", seed)?,
+        walks: walks.map(ints::walks).transpose()?,
+        seed: seed.map(ints::seed).transpose()?,
     })
 }
 
@@ -204,7 +189,12 @@ pub fn table_spec(
 /// released, and returns the shard file's JSON text (what `stfit tables --shard K/N` writes).
 #[pyfunction]
 #[pyo3(signature = (spec, index = 1, count = 1))]
-pub fn table_shard(py: Python<'_>, spec: &str, index: usize, count: usize) -> PyResult<String> {
+pub fn table_shard(
+    py: Python<'_>,
+    spec: &str,
+    #[pyo3(from_py_with = ints::shard_index)] index: u64,
+    #[pyo3(from_py_with = ints::shard_count)] count: u64,
+) -> PyResult<String> {
     let spec: TableSpec = serde_json::from_str(spec).map_err(|e| arg_error("spec", e))?;
     let part: Shard = format!("{index}/{count}")
         .parse()

@@ -6,10 +6,14 @@ use pyo3::prelude::*;
 use stfit_core::ScatteringOrders;
 use stfit_core::ndf::AnyNdf;
 use stfit_core::surface::{NdfChoice, NdfFamily, Surface, SurfaceOptions};
-use stfit_core::walk::{AlbedoEstimate, DEFAULT_ALBEDO_WALKS, DEFAULT_EVAL_WALKS, eval_pairs};
+use stfit_core::walk::{
+    AlbedoEstimate, DEFAULT_ALBEDO_WALKS, DEFAULT_EVAL_WALKS, check_walks, defined_stderr,
+    eval_pairs,
+};
 
 use crate::arrays::{Dirs, Pairing, check_unit, values};
 use crate::errors::{arg_error, value_error};
+use crate::ints;
 use crate::ndf::{any_ndf, ndf_object};
 
 /// Parses orders: `single`, `multiple` or `all`.
@@ -25,12 +29,9 @@ pub struct PyMicrosurface {
     orders: ScatteringOrders,
 }
 
+/// The walks of one estimate, in core's range ([`check_walks`]: [1, 1e9]).
 fn walks_arg(walks: u64) -> PyResult<u64> {
-    if walks == 0 {
-        Err(arg_error("walks", "must be at least 1, got 0"))
-    } else {
-        Ok(walks)
-    }
+    check_walks(walks).map_err(value_error)
 }
 
 #[pymethods]
@@ -79,9 +80,14 @@ impl PyMicrosurface {
     }
 
     /// Fractions of the flux arriving from the unit direction `wi` that leave on its side
-    /// (reflectance) and on the other (transmittance), from `walks` random walks.
+    /// (reflectance) and on the other (transmittance), from `walks` random walks (in [1, 1e9]).
     #[pyo3(signature = (wi, walks = DEFAULT_ALBEDO_WALKS, seed = 1))]
-    fn albedo(&self, wi: &Bound<'_, PyAny>, walks: u64, seed: u64) -> PyResult<Albedo> {
+    fn albedo(
+        &self,
+        wi: &Bound<'_, PyAny>,
+        #[pyo3(from_py_with = ints::walks)] walks: u64,
+        #[pyo3(from_py_with = ints::seed)] seed: u64,
+    ) -> PyResult<Albedo> {
         let py = wi.py();
         let wi = Dirs::new(wi, "wi")?;
         if !wi.shape.is_empty() {
@@ -99,16 +105,17 @@ impl PyMicrosurface {
     }
 
     /// Estimates of `f(wi, wo) |wo.z|` and their standard errors, as two arrays: pairs that
-    /// share a `wi` share one set of `walks` walks, seeded by the direction and `seed`; with
-    /// dielectric or conductor facets every pair adds a quarter as many walks from its `wo`
-    /// (bidirectional estimates).
+    /// share a `wi` share one set of `walks` walks (in [1, 1e9]), seeded by the direction and
+    /// `seed`; with dielectric or conductor facets every pair adds a quarter as many walks from
+    /// its `wo` (bidirectional estimates). With 1 walk the standard errors are undefined: NaN
+    /// (the empty column of `stfit eval`).
     #[pyo3(signature = (wi, wo, walks = DEFAULT_EVAL_WALKS, seed = 1))]
     fn eval<'py>(
         &self,
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
-        walks: u64,
-        seed: u64,
+        #[pyo3(from_py_with = ints::walks)] walks: u64,
+        #[pyo3(from_py_with = ints::seed)] seed: u64,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
         let py = wi.py();
         let (wi, wo) = (Dirs::new(wi, "wi")?, Dirs::new(wo, "wo")?);
@@ -124,7 +131,10 @@ impl PyMicrosurface {
             Ok::<_, PyErr>(eval_pairs(estimator.as_ref(), &pairs, walks, seed))
         })?;
         let mean = est.iter().map(|e| e.mean).collect();
-        let stderr = est.iter().map(|e| e.stderr).collect();
+        let stderr = est
+            .iter()
+            .map(|e| defined_stderr(walks, e.stderr).unwrap_or(f64::NAN))
+            .collect();
         Ok((
             values(py, mean, &pairing.shape)?,
             values(py, stderr, &pairing.shape)?,
@@ -141,9 +151,10 @@ impl PyMicrosurface {
     }
 }
 
-/// An albedo estimate: `reflectance`, `transmittance` and their standard errors, the mean
-/// number of scattering events `mean_bounces`, the fraction `truncated` of the flux dropped by
-/// walks past the safety cap, and the number of `walks`.
+/// An albedo estimate: `reflectance`, `transmittance` and their standard errors (None with
+/// fewer than 2 walks, as `stfit albedo --json` gives null), the mean number of scattering
+/// events `mean_bounces`, the fraction `truncated` of the flux dropped by walks past the
+/// safety cap, and the number of `walks`.
 #[pyclass(module = "stfit", frozen)]
 pub struct Albedo(AlbedoEstimate);
 
@@ -157,13 +168,15 @@ impl Albedo {
     fn transmittance(&self) -> f64 {
         self.0.transmittance
     }
+    /// None with fewer than 2 walks, where a standard error is undefined.
     #[getter]
-    fn reflectance_stderr(&self) -> f64 {
-        self.0.reflectance_stderr
+    fn reflectance_stderr(&self) -> Option<f64> {
+        defined_stderr(self.0.walks, self.0.reflectance_stderr)
     }
+    /// None with fewer than 2 walks, where a standard error is undefined.
     #[getter]
-    fn transmittance_stderr(&self) -> f64 {
-        self.0.transmittance_stderr
+    fn transmittance_stderr(&self) -> Option<f64> {
+        defined_stderr(self.0.walks, self.0.transmittance_stderr)
     }
     #[getter]
     fn mean_bounces(&self) -> f64 {
@@ -178,12 +191,13 @@ impl Albedo {
         self.0.walks
     }
     fn __repr__(&self) -> String {
+        let pm = |se: Option<f64>| se.map_or(String::new(), |se| format!(" +- {se}"));
         format!(
-            "stfit.Albedo(reflectance={} +- {}, transmittance={} +- {}, walks={})",
+            "stfit.Albedo(reflectance={}{}, transmittance={}{}, walks={})",
             self.0.reflectance,
-            self.0.reflectance_stderr,
+            pm(self.reflectance_stderr()),
             self.0.transmittance,
-            self.0.transmittance_stderr,
+            pm(self.transmittance_stderr()),
             self.0.walks
         )
     }

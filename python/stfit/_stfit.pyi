@@ -115,13 +115,14 @@ class RoughDielectric:
 
 class Albedo:
     """Fractions of the incident flux leaving on the light's side (``reflectance``) and the
-    other (``transmittance``), with standard errors, ``mean_bounces``, the fraction
+    other (``transmittance``), with standard errors (None with fewer than 2 walks, where they
+    are undefined, as ``stfit albedo --json`` gives null), ``mean_bounces``, the fraction
     ``truncated`` dropped at the safety cap, and ``walks``."""
 
     reflectance: float
     transmittance: float
-    reflectance_stderr: float
-    transmittance_stderr: float
+    reflectance_stderr: Optional[float]
+    transmittance_stderr: Optional[float]
     mean_bounces: float
     truncated: float
     walks: int
@@ -141,7 +142,8 @@ class Microsurface:
     def orders(self) -> str: ...
     def albedo(self, wi: ArrayLike, walks: int = 1_000_000, seed: int = 1) -> Albedo:
         """The albedo for light from the single unit direction ``wi`` (shape (3,)), from
-        ``walks`` walks; parallel, identical for a seed whatever the number of threads."""
+        ``walks`` walks (in [1, 1e9], else ValueError); parallel, identical for a seed whatever
+        the number of threads."""
     def eval(
         self, wi: ArrayLike, wo: ArrayLike, walks: int = 100_000, seed: int = 1
     ) -> tuple[FloatOrArray, FloatOrArray]:
@@ -149,7 +151,9 @@ class Microsurface:
         share a ``wi`` share one set of ``walks`` walks, seeded by the direction and ``seed``;
         with dielectric or conductor facets every pair adds a quarter as many walks from its
         ``wo``, toward ``wi``, weighted path by path against those from ``wi`` (bidirectional
-        estimates). Each estimate depends on its pair and the seed only."""
+        estimates). Each estimate depends on its pair and the seed only. ``walks`` is in
+        [1, 1e9] (else ValueError); with 1 walk the standard errors are undefined and given as
+        NaN (``stfit eval`` leaves them empty)."""
 
 class Dataset:
     """Measurements: named samples of points (angles, value ``L`` or BSDF, weight)."""
@@ -174,8 +178,12 @@ class Dataset:
 def load(source: DataSource, *, sample: Optional[str] = None) -> Dataset:
     """Reads measurements (data-format.md): a CSV file (in-plane or general) or pab-opto file, a
     folder of them, a list of paths, or in-memory columns named as a file's header (a mapping of
-    names to arrays, or a pandas DataFrame), validated by the same rules. Raises LoadError with
-    the file, line and column of the first problem."""
+    names to arrays, or a pandas DataFrame), validated by the same rules: the names are strings,
+    each column is 1-D (one value per row), the number columns (angles, ``L``, ``sqrt_L``,
+    ``bsdf``, ``weight``) have an integer or float dtype (booleans, complex numbers and text are
+    refused, not converted), and a missing sample name (None, NaN, pandas' NA) is refused as an
+    empty one. Raises LoadError with the file (``<arrays>``, ``<DataFrame>`` for columns), line
+    (row k is line k + 2) and column of the first problem."""
 
 class FitResult:
     """One model fitted to one sample: every key of a record of the fits JSON
@@ -213,7 +221,9 @@ class FitResult:
     stfit_version: str
     def label(self) -> str: ...
     def predict(self, theta_i_deg: Sequence[float], theta_o_deg: Sequence[float]) -> list[float]:
-        """The fitted model's ``L`` at in-plane configurations (theta_i in [0, 90), theta_o in (90, 270))."""
+        """The fitted model's ``L`` at in-plane configurations (theta_i in [0, 90), theta_o in
+        (90, 270), degrees, as in data-format.md); an angle outside them, NaN included, raises
+        ValueError naming it."""
     def to_json(self) -> str:
         """The record as JSON text, exactly as in the fits file."""
     def to_dict(self) -> dict[str, Any]:
@@ -241,8 +251,8 @@ def fit(
     """Fits ``model`` ('beckmann', 'ggx', 'student-t' or 'all': the four models Beckmann, GGX,
     Student-T with gamma = 3 and with gamma free) to every sample, with the command line's
     options and defaults: ``eta`` 1.51 (a number or 'free'), ``scale`` 'free' (or a number),
-    ``orders`` 'single' or 'all' (the random walk's orders >= 2 added, ``walks`` per incidence
-    from ``seed``; ``multiple_term`` 'surrogate' interpolates that term between a few walk
+    ``orders`` 'single' or 'all' (the random walk's orders >= 2 added, ``walks`` per incidence,
+    in [2, 1e9], from ``seed``; ``multiple_term`` 'surrogate' interpolates that term between a few walk
     sets while searching, 'exact' walks at every evaluation), ``masking`` separable for single
     scattering. Raises ValueError for bad
     options, LoadError for bad data, FitError for a fit that cannot be made."""
