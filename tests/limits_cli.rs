@@ -160,7 +160,7 @@ fn parameters_outside_their_range_are_usage_errors_naming_the_range() {
         ),
         (
             vec![d, "--orders", "all", "--walks", "18446744073709551615"],
-            "[1, 1e9]",
+            "[2, 1e9]",
         ),
         (vec![d, "--orders", "all", "--walks", "1"], "at least 2"),
         // The null walk's tentative collisions grow with D's peak.

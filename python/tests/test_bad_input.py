@@ -88,7 +88,7 @@ def test_walks_outside_core_range_raise_value_error(call, walks, tmp_path):
         WALKED[call](walks, tmp_path / "report")
 
 
-@pytest.mark.parametrize("walks, text", [(1, "at least 2 walks"), (10**9 + 1, "out of range")])
+@pytest.mark.parametrize("walks, text", [(1, "at least 2 walks"), (10**9 + 1, r"\[2, 1e9\]")])
 @pytest.mark.parametrize("call", ["fit", "report"])
 def test_fit_walks_outside_the_fit_range_raise_value_error(call, walks, text, tmp_path):
     """An all-orders fit (stfit.fit, stfit.report fitting first) refuses walks outside the
