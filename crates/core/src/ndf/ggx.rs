@@ -173,15 +173,23 @@ impl Ggx {
     /// `l = |w_s|`, so `w_s` is never normalised: `l (1 - z) = p = s (l + w_s.z)` and
     /// `l^2 (1 - z^2) / s = (l + w_s.z) (2 l - p)`, without cancellation near the cap's pole.
     /// The cap point plus `w_s` is unstretched to the normal. One square root and one
-    /// division besides `l`, which the caller gives ([`Ggx::stretched_length`]).
+    /// division besides `l`, which the caller gives ([`Ggx::stretched_length`]). Below the
+    /// horizon `q = l + w_s.z` is the difference of nearly equal numbers at small alpha; it is
+    /// taken as `(w_s.x^2 + w_s.y^2) / (l - w_s.z)` there (`l^2 = |w_s|^2`), and the point's
+    /// height plus `w_s.z` as `q (1 - s)`, so that the normal stays visible from `w` down to
+    /// alpha 1e-8.
     #[inline]
     fn cap_normal(&self, w: Vec3, l: f64, x1: f64, x2: f64, s: f64) -> Vec3 {
         let a = self.alpha;
         let ws = Vec3::new(a * w.x, a * w.y, w.z);
-        let q = l + ws.z;
+        let q = if ws.z >= 0.0 {
+            l + ws.z
+        } else {
+            (ws.x * ws.x + ws.y * ws.y) / (l - ws.z)
+        };
         let p = s * q;
         let r = safe_sqrt(q * (2.0 * l - p));
-        let h = Vec3::new(r * x1 + ws.x, r * x2 + ws.y, (l - p) + ws.z);
+        let h = Vec3::new(r * x1 + ws.x, r * x2 + ws.y, q * (1.0 - s));
         let m = Vec3::new(a * h.x, a * h.y, h.z.max(0.0));
         let n2 = m.norm_squared();
         if n2 > 0.0 && m.z > 0.0 {
@@ -227,6 +235,31 @@ mod tests {
                         (m - n).norm() < 1e-13,
                         "alpha {alpha} theta {theta}: {m:?} {n:?}"
                     );
+                }
+            }
+        }
+    }
+
+    /// Seen from below the horizon at tiny roughness the visible normals are nearly
+    /// perpendicular to `w`; every drawn normal is still visible (`w.wm > 0`, `wm.z > 0`),
+    /// from just below the horizon to 179 degrees, for alpha down to 1e-8.
+    #[test]
+    fn normals_seen_from_below_at_tiny_alpha_are_visible() {
+        let mut rng = Pcg64::seed_from_u64(17);
+        for alpha in [1e-8, 1e-6, 1e-3, 0.3] {
+            let ggx = Ggx::new(alpha).unwrap();
+            for deg in [90.5f64, 100.0, 120.0, 135.0, 150.0, 170.0, 179.0] {
+                let w = spherical_direction(deg.to_radians(), 0.7);
+                for _ in 0..2000 {
+                    for m in [
+                        ggx.sample_visible(w, &mut rng),
+                        ggx.sample_visible_after(w, ggx.lambda(-w), &mut rng),
+                    ] {
+                        assert!(
+                            w.dot(&m) > 0.0 && m.z > 0.0 && (m.norm() - 1.0).abs() < 1e-12,
+                            "alpha {alpha}, {deg} degrees: {m:?}"
+                        );
+                    }
                 }
             }
         }

@@ -38,7 +38,11 @@ pub trait Ndf: Clone + Send + Sync {
 
     /// Draws a microfacet normal from the distribution of normals visible from `w`,
     /// [`Ndf::d_visible`], for any `w` on the sphere with `sigma(w) > 0`.
-    /// The result is a unit vector with `w.wm > 0` and `wm.z > 0`.
+    /// The result is a unit vector with `w.wm > 0` and `wm.z > 0`. Where `sigma(w) = 0` (no
+    /// normal is visible: straight below, or far below the horizon where the tail of `D`
+    /// underflows) it is a unit vector with `wm.z > 0` that may not be visible: where such `w`
+    /// can occur, check `w.wm > 0` (Beckmann's sampler still finds visible normals where
+    /// `sigma` has underflowed, so `sigma(w) = 0` alone is too strict a test).
     fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3;
 
     /// [`Ndf::sample_visible`] from `w` given `lambda_back = Lambda(-w)`, which a random walk has
