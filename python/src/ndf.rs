@@ -2,7 +2,7 @@
 //! (normalised by projected area, Smith Lambda on the whole sphere, exact visible-normal
 //! sampling), evaluated over batches of directions.
 
-use pyo3::exceptions::PyTypeError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use rand_pcg::Pcg64;
 use rayon::prelude::*;
@@ -209,15 +209,37 @@ fn sample_visible<'py>(
     let out = py.detach(|| {
         check_unit(flat, "w")?;
         let mut out = vec![0.0; flat.len()];
-        out.par_chunks_mut(3 * ROWS_PER_TASK)
+        // Where no normal is visible (sigma(w) = 0: straight below, or far below the horizon
+        // where D's tail underflows) a draw is not a visible normal: such rows are refused.
+        let hidden = out
+            .par_chunks_mut(3 * ROWS_PER_TASK)
             .enumerate()
-            .for_each(|(c, chunk)| {
+            .filter_map(|(c, chunk)| {
                 let mut rng = stream(seed, c);
+                let mut hidden = None;
                 for (j, o) in chunk.chunks_exact_mut(3).enumerate() {
-                    let wm = ndf.sample_visible(dir(flat, c * ROWS_PER_TASK + j), &mut rng);
+                    let k = c * ROWS_PER_TASK + j;
+                    let w = dir(flat, k);
+                    let wm = ndf.sample_visible(w, &mut rng);
+                    if hidden.is_none() && !(w.dot(&wm) > 0.0 && wm.z > 0.0) {
+                        hidden = Some(k);
+                    }
                     o.copy_from_slice(&[wm.x, wm.y, wm.z]);
                 }
-            });
+                hidden
+            })
+            .min();
+        if let Some(k) = hidden {
+            let w = dir(flat, k);
+            return Err(PyValueError::new_err(format!(
+                "w[{k}] = [{}, {}, {}]: no microfacet normal is visible from it (projected \
+                 area sigma(w) = {:e})",
+                w.x,
+                w.y,
+                w.z,
+                ndf.sigma(w)
+            )));
+        }
         Ok::<_, PyErr>(out)
     })?;
     vectors(py, out, &w.shape)

@@ -57,7 +57,9 @@ class _Ndf:
         """Exact visible normals: one facet normal per direction ``w`` (any direction on the
         sphere), drawn from ``D_w(wm) = max(0, w.wm) D(wm) / sigma(w)``. Unit vectors with
         ``wm.z > 0`` and ``w.wm > 0``, shape ``(..., 3)``; the same for a seed whatever the
-        number of threads."""
+        number of threads. A direction from which no visible normal can be drawn (``sigma(w) = 0``:
+        straight below, or far below the horizon where the NDF's tail underflows) raises
+        ValueError naming the row."""
 
 class StudentT(_Ndf):
     """The Student-T NDF of d'Eon 2023 with roughness ``alpha`` > 0 and shape ``gamma`` > 3/2

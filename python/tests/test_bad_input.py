@@ -2,6 +2,7 @@
 range, before any work: never an OverflowError, a hang, a silently wrong number or a
 "standard error" that one walk cannot have."""
 
+import numpy as np
 import pytest
 
 import stfit
@@ -304,3 +305,20 @@ def test_accepted_columns_still_load():
         assert d.samples == ["a"] and d.n_points == 3
         assert np.allclose(d.columns()["L"], [1.0, 0.5, 0.7])
     assert stfit.load({**ROWS, "sample": [1, 2, 1]}).samples == ["1", "2"]
+
+
+@pytest.mark.parametrize("ndf", [stfit.Ggx(0.3), stfit.Beckmann(1e-3), stfit.StudentT(0.3, 3.0)])
+def test_sample_visible_refuses_directions_that_see_no_normal(ndf):
+    """sample_visible raises ValueError naming the row where sigma(w) = 0 (straight below;
+    Beckmann far below the horizon), instead of returning a normal that is not visible."""
+    w = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]])
+    with pytest.raises(ValueError, match=r"w\[1\].*sigma"):
+        ndf.sample_visible(w, seed=1)
+
+
+def test_normals_seen_from_below_at_tiny_alpha_are_visible():
+    """GGX at alpha 1e-8 seen from 120 to 179 degrees: every normal drawn is visible."""
+    th = np.radians(np.repeat([120.0, 150.0, 179.0], 1000))
+    w = np.stack([np.sin(th), np.zeros_like(th), np.cos(th)], axis=-1)
+    wm = stfit.Ggx(1e-8).sample_visible(w, seed=3)
+    assert np.all(np.einsum("ij,ij->i", w, wm) > 0) and np.all(wm[:, 2] > 0)
