@@ -549,9 +549,8 @@ pub fn synth(
 /// options given. Returns the paths written; non-fatal findings become Python warnings.
 #[pyfunction]
 #[pyo3(signature = (data, fits = None, *, out, y_axis = "sqrt", eta = None, scale = None,
-    loss = "sqrt", log_floor = DEFAULT_LOG_FLOOR, optimizer = "nelder-mead", masking = None,
-    orders = "single", walks = DEFAULT_WALKS, seed = 1,
-    multiple_term = "surrogate"))]
+    loss = None, log_floor = None, optimizer = None, masking = None, orders = None,
+    walks = None, seed = None, multiple_term = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn report(
     py: Python<'_>,
@@ -561,15 +560,36 @@ pub fn report(
     y_axis: &str,
     eta: Option<&Bound<'_, PyAny>>,
     scale: Option<&Bound<'_, PyAny>>,
-    loss: &str,
-    log_floor: f64,
-    optimizer: &str,
+    loss: Option<&str>,
+    log_floor: Option<f64>,
+    optimizer: Option<&str>,
     masking: Option<&str>,
-    orders: &str,
-    #[pyo3(from_py_with = ints::walks)] walks: u64,
-    #[pyo3(from_py_with = ints::seed)] seed: u64,
-    multiple_term: &str,
+    orders: Option<&str>,
+    walks: Option<&Bound<'_, PyAny>>,
+    seed: Option<&Bound<'_, PyAny>>,
+    multiple_term: Option<&str>,
 ) -> PyResult<Vec<PathBuf>> {
+    // Stored fits carry the options they were fitted with: fit options given with them would
+    // be ignored, so they are refused (as `stfit report --fits` does).
+    let given = [
+        ("eta", eta.is_some()),
+        ("scale", scale.is_some()),
+        ("loss", loss.is_some()),
+        ("log_floor", log_floor.is_some()),
+        ("optimizer", optimizer.is_some()),
+        ("masking", masking.is_some()),
+        ("orders", orders.is_some()),
+        ("walks", walks.is_some()),
+        ("seed", seed.is_some()),
+        ("multiple_term", multiple_term.is_some()),
+    ];
+    if let (Some(_), Some((name, _))) = (fits, given.iter().find(|(_, g)| *g)) {
+        return Err(arg_error(
+            name,
+            "does not apply with fits: stored fits carry the model and options they were \
+             fitted with",
+        ));
+    }
     let opts = ReportOptions {
         y_scale: match y_axis {
             "sqrt" => YScale::Sqrt,
@@ -589,14 +609,14 @@ pub fn report(
             let fit_opts = fit_options(
                 eta,
                 scale,
-                loss,
-                log_floor,
-                optimizer,
+                loss.unwrap_or("sqrt"),
+                log_floor.unwrap_or(DEFAULT_LOG_FLOOR),
+                optimizer.unwrap_or("nelder-mead"),
                 masking,
-                orders,
-                walks,
-                seed,
-                multiple_term,
+                orders.unwrap_or("single"),
+                walks.map_or(Ok(DEFAULT_WALKS), ints::walks)?,
+                seed.map_or(Ok(1), ints::seed)?,
+                multiple_term.unwrap_or("surrogate"),
             )?;
             py.detach(|| fit_dataset(&data, &all_models(), &fit_opts, &|_, _| {}))
                 .map_err(|e| fit_error(py, &e))?

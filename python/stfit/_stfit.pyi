@@ -301,18 +301,21 @@ def report(
     y_axis: str = "sqrt",
     eta: Union[float, str, None] = None,
     scale: Union[float, str, None] = None,
-    loss: str = "sqrt",
-    log_floor: float = 1e-3,
-    optimizer: str = "nelder-mead",
+    loss: Optional[str] = None,
+    log_floor: Optional[float] = None,
+    optimizer: Optional[str] = None,
     masking: Optional[str] = None,
-    orders: str = "single",
-    walks: int = 20_000,
-    seed: int = 1,
-    multiple_term: str = "surrogate",
+    orders: Optional[str] = None,
+    walks: Optional[int] = None,
+    seed: Optional[int] = None,
+    multiple_term: Optional[str] = None,
 ) -> list[pathlib.Path]:
     """Writes the report of ``stfit report`` into ``out``: comparison figures (SVG, PNG) and
-    fits.md. Without ``fits``, the four models are fitted first with the options given.
-    Returns the paths written; non-fatal findings are issued as warnings."""
+    fits.md. Without ``fits``, the four models are fitted first with the options given (as in
+    ``fit``: loss "sqrt", log_floor 1e-3, optimizer "nelder-mead", orders "single", walks
+    20,000, seed 1, multiple_term "surrogate" where not given). With ``fits`` every fit option
+    raises ValueError: stored fits carry their own. Returns the paths written; non-fatal
+    findings are issued as warnings."""
 
 def export(
     fits: Union[FitResult, Sequence[FitResult], PathLike],

@@ -322,3 +322,17 @@ def test_normals_seen_from_below_at_tiny_alpha_are_visible():
     w = np.stack([np.sin(th), np.zeros_like(th), np.cos(th)], axis=-1)
     wm = stfit.Ggx(1e-8).sample_visible(w, seed=3)
     assert np.all(np.einsum("ij,ij->i", w, wm) > 0) and np.all(wm[:, 2] > 0)
+
+
+@pytest.mark.parametrize(
+    "option", [{"walks": 0}, {"walks": 100}, {"seed": 2}, {"orders": "all"}, {"eta": 1.5}]
+)
+def test_report_refuses_fit_options_with_stored_fits(option, tmp_path):
+    """report(data, fits, ...) refuses fit options (even valid ones) instead of ignoring them,
+    as `stfit report --fits` does: the stored fits carry their own."""
+    data = stfit.load(EXAMPLE)
+    fits = stfit.fit(data, model="ggx")
+    name = next(iter(option))
+    with pytest.raises(ValueError, match=f"^{name}: does not apply with fits"):
+        stfit.report(data, fits, out=tmp_path / "r", **option)
+    assert not (tmp_path / "r").exists()
