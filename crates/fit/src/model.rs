@@ -331,8 +331,16 @@ impl Model {
 
     /// The model's value at every measured point, in that point's quantity (`L` of an in-plane
     /// point, the BSDF of a general one), in one batch as [`Model::predict`].
+    /// Points whose angles are outside the data format's ranges are refused.
     pub fn predict_points(&self, points: &[Measurement]) -> Result<Vec<f64>, FitError> {
         self.check()?;
+        for (index, p) in points.iter().enumerate() {
+            p.check_angles().map_err(|reason| FitError::InvalidData {
+                sample: "predicted points".into(),
+                index,
+                reason,
+            })?;
+        }
         let pairs: Vec<_> = points.iter().map(Measurement::directions).collect();
         let quantity = points.iter().map(Measurement::quantity).collect();
         let forward = Forward::new(
@@ -350,8 +358,9 @@ impl Model {
             *v *= self.scale;
             if !v.is_finite() || (unit != 0.0 && *v == 0.0) {
                 return Err(FitError::NotRepresentable(format!(
-                    "point {k}: the model value {unit:e} times the scale {:e} is not a \
-                     representable number",
+                    "point {} (counting from 1): the model value {unit:e} times the scale {:e} \
+                     is not a representable number",
+                    k + 1,
                     self.scale
                 )));
             }

@@ -149,6 +149,27 @@ fn invalid_points_and_options_are_rejected() {
     ));
 }
 
+/// `predict` refuses angles outside the data format's ranges (naming the point, counted from
+/// 1) instead of returning 0 for them.
+#[test]
+fn predictions_outside_the_angle_ranges_are_refused() {
+    let model = Model::single(ModelKind::Ggx, 0.3, Gamma::NotApplicable, 1.0);
+    assert!(model.predict(&[(0.0, 180.0), (30.0, 200.0)]).is_ok());
+    for bad in [
+        (95.0, 180.0),
+        (0.0, 20.0),
+        (f64::NAN, 180.0),
+        (0.0, f64::INFINITY),
+    ] {
+        let err = model.predict(&[(0.0, 180.0), bad]).unwrap_err();
+        assert!(
+            matches!(err, FitError::InvalidData { index: 1, .. })
+                && err.to_string().contains("point 2 (counting from 1)"),
+            "{bad:?}: {err}"
+        );
+    }
+}
+
 #[test]
 fn zero_weight_points_are_ignored() {
     let mut s = good();
