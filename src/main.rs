@@ -50,27 +50,37 @@ enum Command {
     Export(cmd::export::Args),
 }
 
-/// The fit options given on the command line (not defaulted) of `matches`, as flags such as
-/// `--log-floor`: the default command's, or `stfit report`'s.
-fn given_fit_flags(matches: &clap::ArgMatches) -> Vec<String> {
-    let ids = [
-        "model",
-        "gamma",
-        "eta",
-        "scale",
-        "loss",
-        "log_floor",
-        "optimizer",
-        "masking",
-        "orders",
-        "walks",
-        "seed",
-        "multiple_term",
-    ];
+/// The fit options: with [`given_flags`], those given on the command line.
+const FIT_OPTIONS: [&str; 12] = [
+    "model",
+    "gamma",
+    "eta",
+    "scale",
+    "loss",
+    "log_floor",
+    "optimizer",
+    "masking",
+    "orders",
+    "walks",
+    "seed",
+    "multiple_term",
+];
+
+/// The options among `ids` given on the command line (not defaulted) of `matches`, as flags
+/// such as `--log-floor`, so that a command can refuse those that do not apply.
+fn given_flags(matches: &clap::ArgMatches, ids: &[&str]) -> Vec<String> {
     ids.iter()
         .filter(|id| matches.value_source(id) == Some(ValueSource::CommandLine))
         .map(|id| format!("--{}", id.replace('_', "-")))
         .collect()
+}
+
+/// The options among `ids` given to the subcommand `name`.
+fn given_to(matches: &clap::ArgMatches, name: &str, ids: &[&str]) -> Vec<String> {
+    matches
+        .subcommand_matches(name)
+        .map(|m| given_flags(m, ids))
+        .unwrap_or_default()
 }
 
 fn main() -> ExitCode {
@@ -87,16 +97,16 @@ fn main() -> ExitCode {
         Err(e) => e.exit(),
     };
     let result = match cli.command {
-        None => cmd::fit::run(cli.fit, &given_fit_flags(&matches)),
-        Some(Command::Synth(args)) => cmd::synth::run(args),
-        Some(Command::Eval(args)) => cmd::eval::run(&args),
+        None => cmd::fit::run(cli.fit, &given_flags(&matches, &FIT_OPTIONS)),
+        Some(Command::Synth(args)) => {
+            cmd::synth::run(args, &given_to(&matches, "synth", &["walks"]))
+        }
+        Some(Command::Eval(args)) => {
+            cmd::eval::run(&args, &given_to(&matches, "eval", &["walks", "seed"]))
+        }
         Some(Command::Albedo(args)) => cmd::albedo::run(&args),
         Some(Command::Report(args)) => {
-            let given = matches
-                .subcommand_matches("report")
-                .map(given_fit_flags)
-                .unwrap_or_default();
-            cmd::report::run(args, &given)
+            cmd::report::run(args, &given_to(&matches, "report", &FIT_OPTIONS))
         }
         Some(Command::Tables(args)) => cmd::tables::run(*args),
         Some(Command::Export(args)) => cmd::export::run(&args),

@@ -628,3 +628,62 @@ fn messages_name_the_range_that_applies_and_stay_short() {
         assert!(err.contains("empty"), "{list}: {err}");
     }
 }
+
+/// Walk flags where nothing walks are refused (exit 2): `eval` in closed form, `synth` without
+/// `--orders all`; a data file given twice (directly or through its folder) is refused rather
+/// than counted twice; `synth` writes tiny values in exponent form, never 300 digits.
+#[test]
+fn walk_flags_without_walks_and_files_given_twice_are_refused() {
+    let pair = "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,-1\n";
+    let ggx = ["eval", "--ndf", "ggx", "--alpha", "0.3", "--eta", "1.5"];
+    for flag in ["--walks", "--seed"] {
+        let err = stfit_in(&[&ggx[..], &[flag, "100"]].concat(), pair)
+            .fails_with(2)
+            .to_string();
+        assert!(err.contains(flag) && err.contains("closed form"), "{err}");
+    }
+    stfit_in(
+        &[&ggx[..], &["--orders", "all", "--walks", "100"]].concat(),
+        pair,
+    )
+    .ok();
+    let err = stfit(&["synth", "--model", "ggx", "--alpha", "0.3", "--walks", "10"])
+        .fails_with(2)
+        .to_string();
+    assert!(err.contains("--walks applies to --orders all"), "{err}");
+
+    let dir = CaseDir::new("limits-twice");
+    let data = dir.join("d.csv");
+    stfit(&[
+        "synth",
+        "--model",
+        "ggx",
+        "--alpha",
+        "0.3",
+        "--out",
+        data.to_str().unwrap(),
+    ])
+    .ok();
+    let via_folder = dir.path().join(".").join("d.csv");
+    for twice in [
+        [data.to_str().unwrap(), via_folder.to_str().unwrap()],
+        [dir.path().to_str().unwrap(), data.to_str().unwrap()],
+    ] {
+        let err = stfit(&twice).fails_with(1).to_string();
+        assert!(err.contains("given twice"), "{err}");
+    }
+
+    let tiny = stfit(&[
+        "synth",
+        "--model",
+        "beckmann",
+        "--alpha",
+        "0.035",
+        "--theta-i",
+        "0",
+        "--theta-o",
+        "164",
+    ]);
+    let row = tiny.ok().lines().last().unwrap().to_string();
+    assert!(row.len() < 60 && row.contains("e-"), "{row}");
+}

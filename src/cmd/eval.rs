@@ -50,7 +50,9 @@ pub struct Args {
 
 /// Runs `stfit eval`: CSV from stdin to stdout. Invalid options are usage errors (exit status
 /// 2); bad input is a failure (1), and then nothing is written.
-pub fn run(args: &Args) -> CmdResult {
+/// `given` lists the walk flags given on the command line: they are refused where the
+/// evaluation is in closed form.
+pub fn run(args: &Args, given: &[String]) -> CmdResult {
     args.retired.check()?;
     check_walks(args.walks).map_err(|e| usage(format!("--walks: {e}")))?;
     let evaluation = args
@@ -58,6 +60,11 @@ pub fn run(args: &Args) -> CmdResult {
         .surface()?
         .evaluation(args.orders.into(), args.masking.map(Into::into))
         .map_err(|e| usage(flags(&e)))?;
+    if let (Evaluation::Analytic(_), Some(flag)) = (&evaluation, given.first()) {
+        return Err(usage(format!(
+            "{flag} applies to random-walk estimates; this evaluation is in closed form"
+        )));
+    }
     let mut input = Vec::new();
     std::io::stdin()
         .read_to_end(&mut input)

@@ -137,7 +137,8 @@ impl From<SynthModelArg> for ModelKind {
 
 /// Runs `stfit synth`. Invalid values of the model and the grid are usage errors (exit 2);
 /// a file that cannot be written or appended to is a failure (1).
-pub fn run(args: SynthArgs) -> CmdResult {
+/// `given` lists the walk flags given on the command line: refused without `--orders all`.
+pub fn run(args: SynthArgs, given: &[String]) -> CmdResult {
     args.retired.check()?;
     let list = |flag: &str,
                 given: &Option<String>,
@@ -203,6 +204,11 @@ pub fn run(args: SynthArgs) -> CmdResult {
     }
     let masking = masking_of(orders, args.masking)?;
     let walks = orders == ScatteringOrders::All;
+    if let (false, Some(flag)) = (walks, given.first()) {
+        return Err(usage(format!(
+            "{flag} applies to --orders all only (single scattering is analytic)"
+        )));
+    }
     let spec = SynthSpec {
         model: Model {
             kind,

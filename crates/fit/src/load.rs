@@ -189,6 +189,10 @@ pub enum LoadErrorKind {
     /// A folder with nothing to read.
     #[error("the folder holds no measurement files")]
     EmptyFolder,
+    /// A file named twice among the paths to read (directly or inside a folder given too):
+    /// its measurements would count twice and shrink every standard error.
+    #[error("the file is given twice (also as {0}); its measurements would count twice")]
+    Repeated(String),
     /// A column that the command writes is already in its input.
     #[error("is written by stfit; the input must not have it")]
     Reserved,
@@ -251,6 +255,22 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
         } else {
             files.push(path.clone());
         }
+    }
+    let mut seen: Vec<(PathBuf, &PathBuf)> = Vec::new();
+    for file in &files {
+        let Ok(canonical) = file.canonicalize() else {
+            continue;
+        };
+        if let Some((_, first)) = seen.iter().find(|(c, _)| *c == canonical) {
+            let first = first.display().to_string();
+            return Err(LoadError::new(
+                file,
+                None,
+                None,
+                LoadErrorKind::Repeated(first),
+            ));
+        }
+        seen.push((canonical, file));
     }
     let mut samples: Vec<Sample> = Vec::new();
     for file in &files {
@@ -1194,6 +1214,17 @@ mod tests {
         assert_eq!(e.kind, LoadErrorKind::EmptyFolder);
         let e = load_paths(&[dir.join("missing.csv")]).unwrap_err();
         assert!(matches!(e.kind, LoadErrorKind::Io(_)), "{e}");
+        // A file named twice, directly or through its folder, would count twice.
+        for twice in [
+            vec![
+                dir.join("empty").join("..").join("a.csv"),
+                dir.join("a.csv"),
+            ],
+            vec![dir.join("folder"), dir.join("folder").join("1.csv")],
+        ] {
+            let e = load_paths(&twice).unwrap_err();
+            assert!(matches!(e.kind, LoadErrorKind::Repeated(_)), "{e}");
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -20,6 +20,7 @@
 //! The front side is stfit's outside (+z), so the angles are those of a general measurement
 //! file (`data-format.md`); every scattered direction of a file lies on one side.
 
+use crate::pairs::format_number;
 use std::io::Write;
 use std::path::Path;
 
@@ -412,8 +413,8 @@ pub fn write_pabopto(
                     writeln!(head, "#sample_name \"{}\"", sample.name)?;
                 }
                 writeln!(head, "#format: theta phi {}", form.name())?;
-                writeln!(head, "#intheta {theta_i_deg}")?;
-                writeln!(head, "#inphi {phi_i_deg}")?;
+                writeln!(head, "#intheta {}", format_number(theta_i_deg))?;
+                writeln!(head, "#inphi {}", format_number(phi_i_deg))?;
                 writeln!(head, "#upphi 0")?;
                 writeln!(head, "#colorimetry: CIE-Y")?;
                 files.push((key, head));
@@ -425,7 +426,13 @@ pub fn write_pabopto(
             PabValue::Bsdf => p.value,
             PabValue::Dsf => p.value * cos,
         };
-        writeln!(files[slot].1, "{theta_o_deg} {phi_o_deg} {value}")?;
+        writeln!(
+            files[slot].1,
+            "{} {} {}",
+            format_number(theta_o_deg),
+            format_number(phi_o_deg),
+            format_number(value)
+        )?;
     }
     let stem: String = if sample.name.is_empty() {
         "sample".into()

@@ -384,17 +384,17 @@ pub fn write_csv<W: Write>(
                 Angles::InPlane {
                     theta_i_deg,
                     theta_o_deg,
-                } => row.extend([theta_i_deg, theta_o_deg].map(|x| x.to_string())),
+                } => row.extend([theta_i_deg, theta_o_deg].map(format_number)),
                 Angles::Spherical {
                     theta_i_deg,
                     phi_i_deg,
                     theta_o_deg,
                     phi_o_deg,
-                } => row.extend(
-                    [theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg].map(|x| x.to_string()),
-                ),
+                } => {
+                    row.extend([theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg].map(format_number))
+                }
             }
-            row.push(p.value.to_string());
+            row.push(format_number(p.value));
             writer.write_record(&row).map_err(io)?;
         }
     }
