@@ -109,7 +109,10 @@ fn main() -> ExitCode {
             cmd::report::run(args, &given_to(&matches, "report", &FIT_OPTIONS))
         }
         Some(Command::Tables(args)) => cmd::tables::run(*args),
-        Some(Command::Export(args)) => cmd::export::run(&args),
+        Some(Command::Export(args)) => {
+            let radiance = ["layer", "absorption", "walks", "seed"];
+            cmd::export::run(&args, &given_to(&matches, "export", &radiance))
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -291,3 +291,41 @@ fn fits_that_would_share_a_file_name_are_refused() {
     );
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0);
 }
+
+/// Radiance's flags are refused with another target even at their default values; `--out
+/// DIR/` creates the folder; an exact mapping prints no sensitivity of its rounding-level rmse.
+#[test]
+fn radiance_flags_where_they_do_not_apply_are_refused_and_out_folders_are_made() {
+    let fits = example_fits();
+    for extra in [
+        &["--to", "mitsuba3", "--layer", "pane"][..],
+        &["--to", "pbrt-v4", "--seed", "1"],
+        &["--to", "mitsuba3", "--absorption", "0"],
+    ] {
+        let args = [
+            &[
+                "export",
+                fits.as_str(),
+                "--sample",
+                "frosted",
+                "--model",
+                "ggx",
+            ],
+            extra,
+        ]
+        .concat();
+        let err = cli().run(&args).fails_with(2).to_string();
+        assert!(err.contains("--"), "{args:?}: {err}");
+    }
+    let dir = CaseDir::new("export-new-folder");
+    let folder = format!("{}/made/", dir.path().display());
+    let run = cli().run(&[
+        "export", &fits, "--to", "mitsuba3", "--sample", "frosted", "--out", &folder,
+    ]);
+    assert!(run.ok().lines().count() >= 4, "{}", run.stdout);
+    let py = std::fs::read_to_string(dir.join("made").join("frosted_ggx-mitsuba3.py")).unwrap();
+    assert!(
+        py.contains("exact to rounding") && !py.contains("e-17"),
+        "{py}"
+    );
+}

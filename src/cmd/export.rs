@@ -27,8 +27,9 @@ pub struct Args {
     /// held fixed).
     #[arg(long, value_enum)]
     pub model: Option<ModelArg>,
-    /// Output file (several fits go into one file, except for radiance), or an existing folder
-    /// (one file per fit, named SAMPLE_MODEL-TARGET.EXT). Default: stdout.
+    /// Output file (several fits go into one file, except for radiance), or a folder (one file
+    /// per fit, named SAMPLE_MODEL-TARGET.EXT): an existing one, or a path ending in `/`,
+    /// created if missing. Default: stdout.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// radiance: a pane (the rough face over a smooth back face, with all inter-reflections)
@@ -108,8 +109,9 @@ pub enum LayerArg {
     Interface,
 }
 
-/// Runs `stfit export`.
-pub fn run(args: &Args) -> CmdResult {
+/// Runs `stfit export`. `given` lists the Radiance flags given on the command line: refused
+/// with another target, even at their default values.
+pub fn run(args: &Args, given: &[String]) -> CmdResult {
     args.retired.check()?;
     let target = Target::from(args.to);
     let radiance = RadianceOptions {
@@ -123,7 +125,7 @@ pub fn run(args: &Args) -> CmdResult {
         rule: QuadratureRule::DEFAULT,
     };
     radiance.check().map_err(usage)?;
-    if target != Target::Radiance && radiance != RadianceOptions::default() {
+    if target != Target::Radiance && (!given.is_empty() || radiance != RadianceOptions::default()) {
         return Err(usage(
             "--layer, --absorption, --walks and --seed apply to --to radiance only",
         ));
@@ -145,6 +147,15 @@ pub fn run(args: &Args) -> CmdResult {
     let dest = match args.out.as_deref() {
         None => Destination::Stdout,
         Some(p) if p.is_dir() => Destination::Folder(p),
+        Some(p)
+            if p.as_os_str()
+                .to_string_lossy()
+                .ends_with(std::path::MAIN_SEPARATOR) =>
+        {
+            std::fs::create_dir_all(p)
+                .map_err(|e| failed(format!("{}: cannot create the folder: {e}", p.display())))?;
+            Destination::Folder(p)
+        }
         Some(p) => Destination::File(p),
     };
     let batch =

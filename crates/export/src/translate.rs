@@ -160,14 +160,17 @@ impl Translation {
         )
     }
 
-    /// One line per parameter: value, rmse growth per unit and the change for +10% rmse.
+    /// One line per parameter: value, rmse growth per unit and the change for +10% rmse (none
+    /// where the mapping's rmse is rounding, below 1e-9: 10% of it means nothing).
     pub fn sensitivity_lines(&self) -> Vec<String> {
         self.params
             .iter()
             .map(|p| {
-                let ten = p
-                    .change_for_10pct
-                    .map_or("-".to_string(), |d| format!("{d:.3e}"));
+                let ten = match p.change_for_10pct {
+                    _ if self.rmse < 1e-9 => "- (the mapping is exact to rounding)".to_string(),
+                    Some(d) => format!("{d:.3e}"),
+                    None => "-".to_string(),
+                };
                 format!(
                     "{} = {:.6}: rmse grows {:.3e} sqrt(L) per unit; change for +10% rmse {}",
                     p.name, p.value, p.rmse_per_unit, ten
