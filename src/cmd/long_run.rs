@@ -19,7 +19,8 @@ pub fn announce(estimator: &dyn Estimator, wi: Vec3, walks: u64, seed: u64) -> O
     if seconds > LONG_RUN_SECONDS {
         let mut note = format!(
             "note: about {:.0} scattering events per walk: {walks} walks will take about {} on \
-             {} threads (fewer --walks, a larger gamma or a smaller alpha make it shorter)",
+             {} threads (fewer --walks make it shorter; so do a smaller alpha and, for Student-T, a \
+             larger gamma)",
             cost.mean_bounces,
             describe_seconds(seconds),
             cost.threads,
