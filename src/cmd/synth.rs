@@ -226,7 +226,14 @@ pub fn run(args: SynthArgs, given: &[String]) -> CmdResult {
         seed: args.seed,
         name: args.sample.clone(),
     };
-    let sample = spec.sample().map_err(|e| usage(format!("synth: {e}")))?;
+    let sample = spec.sample().map_err(|e| match e {
+        // An angle comes from its flag: name the flag, not the file's column.
+        SynthError::Angle { column, .. } => {
+            let flag = column.trim_end_matches("_deg").replace('_', "-");
+            usage(format!("--{flag}: {e}"))
+        }
+        e => usage(format!("synth: {e}")),
+    })?;
 
     let show = stfit_core::error::show;
     let gamma = args

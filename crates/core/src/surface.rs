@@ -316,10 +316,9 @@ impl SurfaceOptions {
                 }))
             }
             NdfChoice::HeightField(family) => {
-                const HF: &str = "vmf or porous NDFs";
                 unused(self.kappa.is_some(), "kappa", "vmf")?;
-                unused(self.base.is_some(), "base", HF)?;
-                unused(self.porosity.is_some(), "porosity", HF)?;
+                unused(self.base.is_some(), "base", "porous NDFs")?;
+                unused(self.porosity.is_some(), "porosity", "porous NDFs")?;
                 let alpha = self.alpha.ok_or(SurfaceError::Missing {
                     param: "alpha",
                     context: family.name(),

@@ -84,7 +84,8 @@ pub fn check_absorption(absorption: f64) -> Result<f64, ExportError> {
         Ok(absorption)
     } else {
         Err(ExportError::Unsupported(format!(
-            "absorption must be in [0, 1) (the fraction absorbed in one crossing at normal incidence), got {absorption}"
+            "absorption must be in [0, 1) (the fraction absorbed in one crossing at normal incidence), got {}",
+            stfit_fit::pairs::format_number(absorption)
         )))
     }
 }
