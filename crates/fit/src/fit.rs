@@ -150,12 +150,8 @@ pub enum FitError {
 }
 
 /// A fit of one sample of a dataset that failed, with where.
+/// Its message names the file, the sample and the model once each.
 #[derive(Debug, Clone, PartialEq, Error)]
-#[error(
-    "{}: sample '{}', model {model}: {error}",
-    short(&file.display().to_string()),
-    short(sample)
-)]
 pub struct DatasetFitError {
     /// The data file.
     pub file: PathBuf,
@@ -163,6 +159,41 @@ pub struct DatasetFitError {
     /// The model, as [`ModelSpec::label`] names it.
     pub model: String,
     pub error: Box<FitError>,
+}
+
+impl FitError {
+    /// Whether the message already names the sample (and which parts of the context a wrapper
+    /// should add): `(sample, model)`.
+    fn names(&self) -> (bool, bool) {
+        match self {
+            Self::NoFiniteCost { .. } => (true, true),
+            Self::TooFewPoints { .. }
+            | Self::AllZero { .. }
+            | Self::InvalidData { .. }
+            | Self::NoSignal { .. }
+            | Self::Scale { .. } => (true, false),
+            Self::InvalidParameter(_) | Self::InvalidSpec(_) | Self::NotRepresentable(_) => {
+                (false, false)
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for DatasetFitError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let file = short(&self.file.display().to_string());
+        match self.error.names() {
+            (true, true) => write!(f, "{file}: {}", self.error),
+            (true, false) => write!(f, "{file}: model {}, {}", self.model, self.error),
+            _ => write!(
+                f,
+                "{file}: sample '{}', model {}: {}",
+                short(&self.sample),
+                self.model,
+                self.error
+            ),
+        }
+    }
 }
 
 /// A sample checked and precomputed once, fitted by several models.
