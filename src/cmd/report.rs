@@ -79,12 +79,23 @@ pub fn run(args: ReportArgs, given: &[String]) -> CmdResult {
         stfit_fit::load_paths(&args.data).map_err(failed)?,
         args.sample.as_deref(),
     )?;
-    let fits = match source {
-        Source::Stored(path) => stored_fits(path, &data, args.sample.is_some())?,
-        Source::Fit(o) => fit_with_progress(&data, &all_models(), &o, true)?,
+    let (fits, whose) = match source {
+        Source::Stored(path) => (
+            stored_fits(path, &data, args.sample.is_some())?,
+            // Stored fits may not match the data: name both files.
+            format!(
+                "{} with the fits of {}",
+                data.source.display(),
+                path.display()
+            ),
+        ),
+        Source::Fit(o) => (
+            fit_with_progress(&data, &all_models(), &o, true)?,
+            data.source.display().to_string(),
+        ),
     };
     let report = stfit_report::render_report(&data, &fits, &opts)
-        .map_err(|e| failed(format!("{}: {e}", data.source.display())))?;
+        .map_err(|e| failed(format!("{whose}: {e}")))?;
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }
