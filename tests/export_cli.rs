@@ -329,3 +329,31 @@ fn radiance_flags_where_they_do_not_apply_are_refused_and_out_folders_are_made()
         "{py}"
     );
 }
+
+/// A very long sample name is cut in file names (to 100 characters), so export to a folder
+/// writes files every file system accepts.
+#[test]
+fn long_sample_names_give_short_file_names() {
+    let dir = CaseDir::new("export-long-name");
+    let long = "x".repeat(5000);
+    let fits = edited_fits(&dir, "long.json", "\"frosted\"", &format!("\"{long}\""));
+    let folder = format!("{}/out/", dir.path().display());
+    let run = cli().run(&[
+        "export",
+        fits.to_str().unwrap(),
+        "--to",
+        "mitsuba3",
+        "--out",
+        &folder,
+    ]);
+    let listing = run.ok().to_string();
+    assert!(listing.lines().count() >= 8, "{listing}");
+    for path in listing.lines() {
+        let name = std::path::Path::new(path)
+            .file_name()
+            .unwrap()
+            .to_string_lossy()
+            .len();
+        assert!(name < 150, "{path}");
+    }
+}

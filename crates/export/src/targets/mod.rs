@@ -99,16 +99,21 @@ pub fn join(exports: &[Export]) -> Vec<ExportFile> {
     joined
 }
 
+/// The longest part of a sample's name in a fit's identifier.
+pub const MAX_SAMPLE_CHARS: usize = 100;
+
 /// The identifier of a fit in scene files and file names: its sample and model with every
 /// character outside `[A-Za-z0-9]` replaced by `_`, such as `frosted_student_t` and
-/// `frosted_student_t_gamma_fixed`.
+/// `frosted_student_t_gamma_fixed`; the sample's name is cut to its first
+/// [`MAX_SAMPLE_CHARS`] characters, so that file names stay within every file system's limit.
 pub fn fit_identifier(fit: &FitResult) -> String {
     let suffix = if fit.model.gamma.is_fixed() {
         "-gamma-fixed"
     } else {
         ""
     };
-    format!("{}-{}{suffix}", fit.sample, fit.model.kind.name())
+    let sample: String = fit.sample.chars().take(MAX_SAMPLE_CHARS).collect();
+    format!("{sample}-{}{suffix}", fit.model.kind.name())
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
         .collect()
