@@ -15,7 +15,7 @@ use stfit_report::fits_table;
 
 use super::{
     CmdError, CmdResult, MaskingArg, OrdersArg, Retired, failed, masking_of, print_stdout, usage,
-    write_file,
+    walks_only, write_file,
 };
 
 /// Arguments of the default (fit) command.
@@ -194,9 +194,7 @@ impl FitOptionArgs {
         if orders == ScatteringOrders::Single {
             for flag in ["--walks", "--seed", "--multiple-term"] {
                 if given(flag) {
-                    return Err(usage(format!(
-                        "{flag} applies to --orders all only (single scattering is analytic)"
-                    )));
+                    return Err(walks_only(flag));
                 }
             }
         }
@@ -223,7 +221,7 @@ impl FitOptionArgs {
                 } else {
                     Err(format!(
                         "the scale must be finite and > 0, got {}",
-                        stfit_fit::pairs::format_number(s)
+                        stfit_core::error::show(s)
                     ))
                 }
             })?,
@@ -237,7 +235,7 @@ impl FitOptionArgs {
             } else {
                 return Err(usage(format!(
                     "--log-floor: the floor must be finite and > 0, got {}",
-                    stfit_fit::pairs::format_number(self.log_floor)
+                    stfit_core::error::show(self.log_floor)
                 )));
             },
             optimizer: match self.optimizer {

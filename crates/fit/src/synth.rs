@@ -20,6 +20,7 @@ use crate::load::{
 };
 use crate::model::Model;
 use crate::pairs::format_number;
+use stfit_core::error::show;
 
 /// Most points one synthetic sample may have (guards against a mistyped grid step).
 pub const MAX_POINTS: usize = 1_000_000;
@@ -44,10 +45,10 @@ pub enum SynthError {
     #[error(transparent)]
     Model(#[from] FitError),
     /// The noise level must be finite and >= 0.
-    #[error("noise must be finite and >= 0, got {}", format_number(*.0))]
+    #[error("noise must be finite and >= 0, got {}", show(*.0))]
     Noise(f64),
     /// An angle outside the range of its column.
-    #[error("{column} = {} is out of range; must be in {range}", format_number(*value))]
+    #[error("{column} = {} is out of range; must be in {range}", show(*value))]
     Angle {
         column: &'static str,
         value: f64,
@@ -250,7 +251,7 @@ impl SynthSpec {
                 return Err(SynthError::Model(FitError::NotRepresentable(format!(
                     "point {} (counting from 1): the value {v:e} with noise {} overflows",
                     k + 1,
-                    format_number(self.noise)
+                    show(self.noise)
                 ))));
             }
         }

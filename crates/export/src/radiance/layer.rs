@@ -85,7 +85,7 @@ pub fn check_absorption(absorption: f64) -> Result<f64, ExportError> {
     } else {
         Err(ExportError::Unsupported(format!(
             "absorption must be in [0, 1) (the fraction absorbed in one crossing at normal incidence), got {}",
-            stfit_fit::pairs::format_number(absorption)
+            stfit_core::error::show(absorption)
         )))
     }
 }
