@@ -125,7 +125,7 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
         rule: QuadratureRule::DEFAULT,
     };
     radiance.check().map_err(usage)?;
-    if target != Target::Radiance && (!given.is_empty() || radiance != RadianceOptions::default()) {
+    if target != Target::Radiance && !given.is_empty() {
         return Err(usage(
             "--layer, --absorption, --walks and --seed apply to --to radiance only",
         ));

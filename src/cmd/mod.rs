@@ -55,6 +55,13 @@ pub fn usage(e: impl fmt::Display) -> CmdError {
     CmdError::Usage(e.to_string())
 }
 
+/// The usage error of a walk flag (`--walks`, `--seed`, ...) given where nothing walks.
+pub fn walks_only(flag: &str) -> CmdError {
+    usage(format!(
+        "{flag} applies to --orders all only (single scattering is analytic)"
+    ))
+}
+
 /// A failure (exit status 1) from anything displayable.
 pub fn failed(e: impl fmt::Display) -> CmdError {
     CmdError::Failed(e.to_string())

@@ -10,7 +10,7 @@ use stfit_fit::{DEFAULT_ETA, DEFAULT_WALKS, Gamma, Grid, Model, ModelKind, Synth
 
 use super::{
     CmdError, CmdResult, MaskingArg, OrdersArg, Retired, check_eta_arg, failed, masking_of,
-    print_stdout, usage,
+    print_stdout, usage, walks_only,
 };
 
 /// Arguments of `stfit synth`.
@@ -205,9 +205,7 @@ pub fn run(args: SynthArgs, given: &[String]) -> CmdResult {
     let masking = masking_of(orders, args.masking)?;
     let walks = orders == ScatteringOrders::All;
     if let (false, Some(flag)) = (walks, given.first()) {
-        return Err(usage(format!(
-            "{flag} applies to --orders all only (single scattering is analytic)"
-        )));
+        return Err(walks_only(flag));
     }
     let spec = SynthSpec {
         model: Model {
