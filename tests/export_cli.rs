@@ -14,6 +14,16 @@ fn example_fits() -> String {
         .to_string()
 }
 
+/// The text of the shipped example fits.
+fn example_text() -> String {
+    std::fs::read_to_string(example_fits()).unwrap()
+}
+
+/// The shipped example fits, parsed.
+fn example_file() -> FitsFile {
+    FitsFile::from_json("example", &example_text()).unwrap()
+}
+
 /// A pbrt-v4 export of one GGX fit prints one Material line whose roughness is alpha^2 of the
 /// stored fit (pbrt's default remapping), to 1e-6.
 #[test]
@@ -158,10 +168,11 @@ fn bad_values_and_bad_files_are_refused_with_the_right_exit_code() {
         .fails_with(1)
         .to_string();
     assert!(err.contains("old.json") && err.contains("version"), "{err}");
-    let text = std::fs::read_to_string(project_root().join("fits/example-fits.json")).unwrap();
-    let bad = dir.file(
+    let bad = edited_fits(
+        &dir,
         "bad.json",
-        text.replacen("\"alpha\": 0.21829845077431576", "\"alpha\": -1.0", 1),
+        "\"alpha\": 0.21829845077431576",
+        "\"alpha\": -1.0",
     );
     let err = cli()
         .run(&["export", bad.to_str().unwrap(), "--to", "pbrt-v4"])
@@ -184,8 +195,7 @@ fn bad_values_and_bad_files_are_refused_with_the_right_exit_code() {
 #[test]
 fn a_pane_of_a_gamma_below_the_walk_range_is_refused() {
     let dir = CaseDir::new("export-pane-gamma");
-    let text = std::fs::read_to_string(project_root().join("fits/example-fits.json")).unwrap();
-    let mut file = FitsFile::from_json("example", &text).unwrap();
+    let mut file = example_file();
     file.fits
         .retain(|f| f.sample == "ground" && f.model.kind.name() == "student-t");
     file.fits.truncate(1);
@@ -210,7 +220,7 @@ fn a_pane_of_a_gamma_below_the_walk_range_is_refused() {
 
 /// The example fits with the first fit's `from` replaced by `to` (once), written into `dir`.
 fn edited_fits(dir: &CaseDir, name: &str, from: &str, to: &str) -> std::path::PathBuf {
-    let text = std::fs::read_to_string(project_root().join("fits/example-fits.json")).unwrap();
+    let text = example_text();
     assert!(text.contains(from), "{from}");
     dir.file(name, text.replacen(from, to, 1))
 }
@@ -263,8 +273,7 @@ fn stored_numbers_outside_their_ranges_are_refused_and_a_bom_is_read() {
 #[test]
 fn fits_that_would_share_a_file_name_are_refused() {
     let dir = CaseDir::new("export-collide");
-    let text = std::fs::read_to_string(project_root().join("fits/example-fits.json")).unwrap();
-    let mut file = FitsFile::from_json("example", &text).unwrap();
+    let mut file = example_file();
     file.fits.retain(|f| f.model.kind.name() == "ggx");
     file.fits.truncate(2);
     file.fits[0].sample = "a b".into();

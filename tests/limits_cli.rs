@@ -11,11 +11,8 @@ fn stfit_in(args: &[&str], stdin: &str) -> Run {
     Cli::new(env!("CARGO_BIN_EXE_stfit")).run_with_stdin(args, stdin)
 }
 
-/// Parameters outside their range: exit 2, the flag and the range named, no huge number spelt
-/// out in full.
-#[test]
-fn parameters_outside_their_range_are_usage_errors_naming_the_range() {
-    let dir = CaseDir::new("limits-ranges");
+/// Noiseless GGX measurements (alpha 0.3, the default grid) written into `dir` as `d.csv`.
+fn ggx_data(dir: &CaseDir) -> std::path::PathBuf {
     let data = dir.join("d.csv");
     stfit(&[
         "synth",
@@ -27,6 +24,15 @@ fn parameters_outside_their_range_are_usage_errors_naming_the_range() {
         data.to_str().unwrap(),
     ])
     .ok();
+    data
+}
+
+/// Parameters outside their range: exit 2, the flag and the range named, no huge number spelt
+/// out in full.
+#[test]
+fn parameters_outside_their_range_are_usage_errors_naming_the_range() {
+    let dir = CaseDir::new("limits-ranges");
+    let data = ggx_data(&dir);
     let d = data.to_str().unwrap();
     let surface = |extra: &[&'static str]| {
         let mut a = vec!["albedo", "--theta-i", "30", "--walks", "100"];
@@ -498,17 +504,7 @@ fn short_walk_runs_print_no_cost_note() {
 #[test]
 fn fit_options_that_do_not_apply_are_refused() {
     let dir = CaseDir::new("limits-inapplicable");
-    let data = dir.join("d.csv");
-    stfit(&[
-        "synth",
-        "--model",
-        "ggx",
-        "--alpha",
-        "0.3",
-        "--out",
-        data.to_str().unwrap(),
-    ])
-    .ok();
+    let data = ggx_data(&dir);
     let d = data.to_str().unwrap();
     let out = dir.join("report");
     let o = out.to_str().unwrap();
@@ -564,17 +560,7 @@ fn fit_options_that_do_not_apply_are_refused() {
 #[test]
 fn undetermined_fits_are_flagged_singular() {
     let dir = CaseDir::new("limits-undetermined");
-    let data = dir.join("d.csv");
-    stfit(&[
-        "synth",
-        "--model",
-        "ggx",
-        "--alpha",
-        "0.3",
-        "--out",
-        data.to_str().unwrap(),
-    ])
-    .ok();
+    let data = ggx_data(&dir);
     let run = stfit(&[
         data.to_str().unwrap(),
         "--model",
@@ -653,17 +639,7 @@ fn walk_flags_without_walks_and_files_given_twice_are_refused() {
     assert!(err.contains("--walks applies to --orders all"), "{err}");
 
     let dir = CaseDir::new("limits-twice");
-    let data = dir.join("d.csv");
-    stfit(&[
-        "synth",
-        "--model",
-        "ggx",
-        "--alpha",
-        "0.3",
-        "--out",
-        data.to_str().unwrap(),
-    ])
-    .ok();
+    let data = ggx_data(&dir);
     let via_folder = dir.path().join(".").join("d.csv");
     for twice in [
         [data.to_str().unwrap(), via_folder.to_str().unwrap()],
