@@ -6,7 +6,7 @@ use super::{CmdResult, OrdersArg, Retired, long_run, print_stdout, usage};
 use stfit_core::Vec3;
 use stfit_core::math::radians;
 use stfit_core::walk::{
-    AlbedoEstimate, DEFAULT_ALBEDO_WALKS, Estimator, check_walks, defined_stderr,
+    AlbedoEstimate, DEFAULT_ALBEDO_WALKS, Estimator, WalkCost, check_walks, defined_stderr,
 };
 
 /// Arguments of `stfit albedo`.
@@ -58,7 +58,8 @@ pub fn run(args: &Args) -> CmdResult {
 /// Runs the walks, announcing a long run and drawing a progress bar on a terminal
 /// ([`long_run::announce`]).
 fn estimate(walk: &dyn Estimator, wi: Vec3, args: &Args) -> AlbedoEstimate {
-    let bar = long_run::announce(walk, wi, args.walks, args.seed);
+    let cost = WalkCost::measure(walk, wi, long_run::pilot_seed(args.seed));
+    let bar = long_run::announce(cost, args.walks, args.walks);
     let progress = |n| {
         if let Some(bar) = &bar {
             bar.inc(n);

@@ -15,8 +15,8 @@ use std::path::Path;
 use stfit_core::bsdf::AnalyticBsdf;
 use stfit_core::surface::Evaluation;
 use stfit_core::walk::{
-    DEFAULT_EVAL_WALKS, check_walks, defined_stderr, distinct_incidences, eval_pairs_with_progress,
-    walks_from_each_wo,
+    DEFAULT_EVAL_WALKS, WalkCost, check_walks, defined_stderr, distinct_incidences,
+    eval_pairs_with_progress, walks_from_each_wo,
 };
 use stfit_fit::pairs::read_pairs;
 
@@ -88,17 +88,21 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
         }
         Evaluation::Walk(walk) => {
             let incidences = distinct_incidences(&table.pairs);
-            let bar = incidences.first().and_then(|&wi| {
-                // Walks from every incidence, and from every pair's wo (bidirectional).
-                let walks = args
-                    .walks
-                    .saturating_mul(incidences.len() as u64)
-                    .saturating_add(
-                        walks_from_each_wo(walk.as_ref(), args.walks)
-                            .saturating_mul(table.pairs.len() as u64),
-                    );
-                long_run::announce(walk.as_ref(), wi, walks, args.seed)
-            });
+            // Walks from every incidence, and from every pair's wo (bidirectional).
+            let all_walks = args
+                .walks
+                .saturating_mul(incidences.len() as u64)
+                .saturating_add(
+                    walks_from_each_wo(walk.as_ref(), args.walks)
+                        .saturating_mul(table.pairs.len() as u64),
+                );
+            let cost = WalkCost::measure_pairs(
+                walk.as_ref(),
+                &table.pairs,
+                args.walks,
+                long_run::pilot_seed(args.seed),
+            );
+            let bar = long_run::announce(cost, args.walks, all_walks);
             let progress = |n| {
                 if let Some(bar) = &bar {
                     bar.inc(n);

@@ -5,23 +5,28 @@
 use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressStyle};
-use stfit_core::Vec3;
-use stfit_core::walk::{Estimator, LONG_RUN_SECONDS, WalkCost, describe_seconds};
+use stfit_core::walk::{LONG_RUN_SECONDS, WalkCost, describe_seconds};
 
 /// Estimated time, in seconds, above which a progress bar is drawn on a terminal.
 const BAR_SECONDS: f64 = 2.0;
 
-/// Measures the cost of `walks` walks from `wi` by a pilot run, announces the run on stderr if
-/// it will be long, and returns a progress bar counting walks when one is worth drawing.
-pub fn announce(estimator: &dyn Estimator, wi: Vec3, walks: u64, seed: u64) -> Option<ProgressBar> {
-    let cost = WalkCost::measure(estimator, wi, seed ^ 0x005e_ed0f_9170);
+/// The seed of a pilot run for a run from `seed`: random numbers of its own, so that a pilot
+/// never shares walks with the run.
+pub fn pilot_seed(seed: u64) -> u64 {
+    seed ^ 0x005e_ed0f_9170
+}
+
+/// Announces on stderr a run of `walks` walks of the measured `cost` if it will be long, and
+/// returns a progress bar counting `bar_walks` walks (every walk of the run) when one is worth
+/// drawing.
+pub fn announce(cost: WalkCost, walks: u64, bar_walks: u64) -> Option<ProgressBar> {
     let seconds = cost.seconds(walks);
     if seconds > LONG_RUN_SECONDS {
         let mut note = format!(
-            "note: about {:.0} scattering events per walk: {walks} walks will take about {} on \
+            "note: about {} scattering events per walk: {bar_walks} walks will take about {} on \
              {} threads (fewer --walks make it shorter; so do a smaller alpha and, for Student-T, a \
              larger gamma)",
-            cost.mean_bounces,
+            show_bounces(cost.mean_bounces),
             describe_seconds(seconds),
             cost.threads,
         );
@@ -35,10 +40,19 @@ pub fn announce(estimator: &dyn Estimator, wi: Vec3, walks: u64, seed: u64) -> O
         eprintln!("{note}");
     }
     (seconds > BAR_SECONDS && std::io::stderr().is_terminal()).then(|| {
-        let bar = ProgressBar::new(walks);
+        let bar = ProgressBar::new(bar_walks);
         if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} walks, eta {eta}") {
             bar.set_style(style);
         }
         bar
     })
+}
+
+/// A mean path length as said in the note: one decimal below 10 (`1.4`), whole numbers above.
+fn show_bounces(mean: f64) -> String {
+    if mean < 10.0 {
+        format!("{mean:.1}")
+    } else {
+        format!("{mean:.0}")
+    }
 }

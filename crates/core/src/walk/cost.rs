@@ -12,9 +12,21 @@ use std::time::Instant;
 use super::Estimator;
 use crate::math::Vec3;
 
-/// Walks of a pilot run: few enough to cost nothing next to the run, many enough for the mean
-/// path length to within tens of percent.
+/// Walks of a pilot run's first batch: few enough to cost nothing next to the run, many enough
+/// for the mean path length to within tens of percent.
 pub const PILOT_WALKS: u64 = 64;
+
+/// Wall time a pilot run spends at least, in seconds, unless its walks reach
+/// [`PILOT_MAX_WALKS`]: batches of 64, 256, ... walks run until one lasts this long, so that
+/// the time per walk is read off a batch long enough for the clock and free of the start-up
+/// costs (caches, the first allocations) that a lone batch of 64 short walks is dominated by.
+pub const PILOT_SECONDS: f64 = 2e-3;
+
+/// Walks of a pilot run's largest batch.
+pub const PILOT_MAX_WALKS: u64 = 1 << 16;
+
+/// Incident directions whose pairs a pilot of [`WalkCost::measure_pairs`] runs.
+pub const PILOT_INCIDENCES: usize = 8;
 
 /// Estimated wall time, in seconds, above which a run is long enough to announce.
 pub const LONG_RUN_SECONDS: f64 = 10.0;
@@ -34,20 +46,59 @@ pub struct WalkCost {
 }
 
 impl WalkCost {
-    /// Runs [`PILOT_WALKS`] walks from `wi` (random numbers of their own, from `seed`; the
-    /// estimates of the run itself are unchanged) and times them.
+    /// The cost of [`Estimator::albedo`] from `wi`: runs batches of [`PILOT_WALKS`], 4 times
+    /// as many, ... walks from `wi` on one thread (random numbers of their own, from `seed`;
+    /// the estimates of the run itself are unchanged) until a batch lasts [`PILOT_SECONDS`] or
+    /// reaches [`PILOT_MAX_WALKS`] walks, and reads the cost off the last batch.
     pub fn measure(estimator: &dyn Estimator, wi: Vec3, seed: u64) -> Self {
-        let start = Instant::now();
-        // The pilot runs on one thread: its time is the time of one walk, not of a share.
-        let pilot = rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .build()
-            .map(|pool| pool.install(|| estimator.albedo(wi, PILOT_WALKS, seed)))
-            .unwrap_or_else(|_| estimator.albedo(wi, PILOT_WALKS, seed));
+        let (pilot, seconds_per_walk) = time_batches(PILOT_MAX_WALKS, |walks, batch| {
+            estimator.albedo(wi, walks, seed.wrapping_add(batch))
+        });
         Self {
             mean_bounces: pilot.mean_bounces,
-            seconds_per_walk: start.elapsed().as_secs_f64() / PILOT_WALKS as f64,
+            seconds_per_walk,
             truncated: pilot.truncated,
+            threads: rayon::current_num_threads(),
+        }
+    }
+
+    /// The cost of [`eval_pairs`](super::eval_pairs) of `pairs` with `walks` walks per
+    /// incident direction, per walk from each incident direction: the next-event estimates
+    /// toward every `wo` and the walks from each `wo` (bidirectional estimators) included.
+    /// The pilot runs `eval_pairs` itself, in batches as [`WalkCost::measure`] does (at most
+    /// `walks` walks), on the pairs of at most [`PILOT_INCIDENCES`] incident directions
+    /// spread evenly through their order, and scales its time by the number of incident
+    /// directions; the path length and the flux at the safety cap are those of
+    /// [`PILOT_WALKS`] albedo walks from the first incident direction.
+    pub fn measure_pairs(
+        estimator: &dyn Estimator,
+        pairs: &[(Vec3, Vec3)],
+        walks: u64,
+        seed: u64,
+    ) -> Self {
+        let groups = super::estimate::incidence_groups(pairs);
+        let Some(&(first, _)) = groups.first() else {
+            return Self {
+                mean_bounces: 0.0,
+                seconds_per_walk: 0.0,
+                truncated: 0.0,
+                threads: rayon::current_num_threads(),
+            };
+        };
+        let step = groups.len().div_ceil(PILOT_INCIDENCES);
+        let picked: Vec<_> = groups.iter().step_by(step).collect();
+        let subset: Vec<(Vec3, Vec3)> = picked
+            .iter()
+            .flat_map(|(_, members)| members.iter().map(|&k| pairs[k]))
+            .collect();
+        let (_, seconds_per_walk) = time_batches(walks.min(PILOT_MAX_WALKS), |n, batch| {
+            super::eval_pairs(estimator, &subset, n, seed.wrapping_add(batch))
+        });
+        let path = single_threaded(|| estimator.albedo(first, PILOT_WALKS, seed));
+        Self {
+            mean_bounces: path.mean_bounces,
+            seconds_per_walk: seconds_per_walk * groups.len() as f64 / picked.len() as f64,
+            truncated: path.truncated,
             threads: rayon::current_num_threads(),
         }
     }
@@ -55,6 +106,34 @@ impl WalkCost {
     /// Estimated wall time of `walks` walks spread over [`WalkCost::threads`] threads.
     pub fn seconds(&self, walks: u64) -> f64 {
         self.seconds_per_walk * walks as f64 / self.threads.max(1) as f64
+    }
+}
+
+/// Runs `run(walks, batch)` for `walks` = [`PILOT_WALKS`], 4 times as many, ... on one
+/// thread until a batch lasts [`PILOT_SECONDS`] or reaches `max_walks` walks, returning the
+/// last batch's result and its wall time per walk.
+fn time_batches<T: Send>(max_walks: u64, run: impl Fn(u64, u64) -> T + Send + Sync) -> (T, f64) {
+    single_threaded(|| {
+        let mut walks = PILOT_WALKS.min(max_walks).max(1);
+        let mut batch = 0;
+        loop {
+            let start = Instant::now();
+            let result = run(walks, batch);
+            let seconds = start.elapsed().as_secs_f64();
+            if seconds >= PILOT_SECONDS || walks >= max_walks {
+                return (result, seconds / walks as f64);
+            }
+            walks = (walks * 4).min(max_walks);
+            batch += 1;
+        }
+    })
+}
+
+/// Runs `f` on a pool of one thread: a pilot's time is the time of its walks, not of a share.
+fn single_threaded<T: Send>(f: impl FnOnce() -> T + Send) -> T {
+    match rayon::ThreadPoolBuilder::new().num_threads(1).build() {
+        Ok(pool) => pool.install(f),
+        Err(_) => f(),
     }
 }
 
@@ -108,6 +187,34 @@ mod tests {
         let expected = long.seconds_per_walk * 1000.0;
         assert!((serial.seconds(1000) - expected).abs() < 1e-12 * expected);
         assert!((one * long.threads as f64 - expected).abs() < 1e-12 * expected);
+    }
+
+    /// The pilot of a batch of pairs takes its path length from albedo walks of the first
+    /// incident direction, times the estimator itself on a subset of incident directions,
+    /// and measures nothing for no pairs.
+    #[test]
+    fn the_pilot_of_pairs_walks_from_the_first_incidence_and_times_every_incidence() {
+        let glass = Microsurface::new(
+            StudentT::new(0.5, 2.0).unwrap(),
+            DielectricFacet::new(1.5).unwrap(),
+        );
+        let pairs: Vec<(Vec3, Vec3)> = (0..20)
+            .flat_map(|i| {
+                let t = 0.05 * f64::from(i);
+                let wi = Vec3::new(-t.sin(), 0.0, t.cos());
+                [
+                    (wi, Vec3::new(0.3, 0.1, 0.9f64.sqrt())),
+                    (wi, Vec3::new(0.2, -0.4, -0.8f64.sqrt())),
+                ]
+            })
+            .collect();
+        let cost = WalkCost::measure_pairs(&glass, &pairs, 1000, 5);
+        let first = glass.albedo(pairs[0].0, PILOT_WALKS, 5);
+        assert_eq!(cost.mean_bounces, first.mean_bounces);
+        assert_eq!(cost.truncated, first.truncated);
+        assert!(cost.seconds_per_walk > 0.0, "{cost:?}");
+        let none = WalkCost::measure_pairs(&glass, &[], 1000, 5);
+        assert_eq!(none.seconds(1000), 0.0);
     }
 
     #[test]

@@ -329,7 +329,7 @@ pub fn distinct_incidences(pairs: &[(Vec3, Vec3)]) -> Vec<Vec3> {
 }
 
 /// The pairs grouped by incident direction, in order of first appearance, by hashing.
-fn incidence_groups(pairs: &[(Vec3, Vec3)]) -> Vec<(Vec3, Vec<usize>)> {
+pub(crate) fn incidence_groups(pairs: &[(Vec3, Vec3)]) -> Vec<(Vec3, Vec<usize>)> {
     let key = |w: &Vec3| [w.x + 0.0, w.y + 0.0, w.z + 0.0].map(f64::to_bits);
     let mut groups: Vec<(Vec3, Vec<usize>)> = Vec::new();
     let mut index: std::collections::HashMap<[u64; 3], usize> = std::collections::HashMap::new();

@@ -67,7 +67,10 @@ mod facet;
 mod microsurface;
 mod null;
 
-pub use cost::{LONG_RUN_SECONDS, PILOT_WALKS, WalkCost, describe_seconds};
+pub use cost::{
+    LONG_RUN_SECONDS, PILOT_INCIDENCES, PILOT_MAX_WALKS, PILOT_SECONDS, PILOT_WALKS, WalkCost,
+    describe_seconds,
+};
 pub use engine::{WalkEnd, WalkSample};
 pub use estimate::{
     AlbedoEstimate, Batched, CHUNK, Estimate, Estimator, PairEstimate, chunk_walks, defined_stderr,
