@@ -295,6 +295,33 @@ fn near_specular_surfaces_conserve_energy_in_single_scattering() {
 }
 
 #[test]
+fn single_scattering_albedos_never_exceed_one() {
+    // E <= 1 exactly (G <= G1(wi)); at near-specular Beckmann cells the quadrature's rounding
+    // had given 1 + 9e-16 (alpha 1e-8, mu 1e-4, eta 100, both sides), so 1 - E < 0.
+    let rule = Quadrature::default();
+    for alpha in [1e-8, 1e-6, 1e-3] {
+        let ndf = Beckmann::new(alpha).unwrap();
+        for eta_rel in [100.0, 50.0, 1.0 / 50.0, 1.0 / 100.0] {
+            let interface = Interface::Dielectric { eta_rel };
+            for masking in [TableMasking::Correlated, TableMasking::Separable] {
+                for mu in [1e-4, 1e-3, 0.5, 1.0] {
+                    let a = single_scattering(&ndf, interface, masking, mu, &rule);
+                    assert!(
+                        a.total() <= 1.0 && a.total() > 0.9,
+                        "alpha {alpha} eta_rel {eta_rel} {masking:?} mu {mu}: {a:?}"
+                    );
+                }
+                let avg = average(&ndf, interface, masking, &rule);
+                assert!(
+                    avg.total() <= 1.0,
+                    "alpha {alpha} eta_rel {eta_rel}: {avg:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn ggx_mirror_at_alpha_1_reflects_one_minus_ln_2_at_normal_incidence() {
     // At alpha = 1, D = 1/pi; at normal incidence Lambda_i = 0 and the reflection of a facet
     // at theta leaves at 2 theta with 1 + Lambda_o = (1 + 1/cos 2theta) / 2, so
