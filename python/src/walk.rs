@@ -153,7 +153,8 @@ impl PyMicrosurface {
 
 /// An albedo estimate: `reflectance`, `transmittance` and their standard errors (None with
 /// fewer than 2 walks, as `stfit albedo --json` gives null), the mean number of scattering
-/// events `mean_bounces`, the fraction `truncated` of the flux dropped by walks past the
+/// events of the walks that left within the orders, `mean_bounces` (the path length, which
+/// facet albedos do not change: they weight a walk), the fraction `truncated` of the flux dropped by walks past the
 /// safety cap, and the number of `walks`.
 #[pyclass(module = "stfit", frozen)]
 pub struct Albedo(AlbedoEstimate);

@@ -118,7 +118,9 @@ class RoughDielectric:
 class Albedo:
     """Fractions of the incident flux leaving on the light's side (``reflectance``) and the
     other (``transmittance``), with standard errors (None with fewer than 2 walks, where they
-    are undefined, as ``stfit albedo --json`` gives null), ``mean_bounces``, the fraction
+    are undefined, as ``stfit albedo --json`` gives null), ``mean_bounces`` (scattering
+    events per walk that left within the orders: the path length, which facet albedos do not
+    change, since they weight a walk rather than end it), the fraction
     ``truncated`` dropped at the safety cap, and ``walks``."""
 
     reflectance: float

@@ -57,7 +57,10 @@ pub struct AlbedoEstimate {
     pub transmittance: f64,
     pub reflectance_stderr: f64,
     pub transmittance_stderr: f64,
-    /// Mean number of scattering events of the walks that contributed.
+    /// Mean number of scattering events of the walks that left the surface within the selected
+    /// orders: the path length. Facet albedos and Fresnel factors enter a walk as its weight,
+    /// not by ending it, so they scale the flux and leave this unchanged (a Lambertian
+    /// reflectance of 0 or 1 gives the same paths).
     pub mean_bounces: f64,
     /// Fraction of the incident flux dropped by walks that reached the safety cap
     /// ([`MAX_BOUNCES`](super::MAX_BOUNCES) by default).
