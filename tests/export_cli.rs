@@ -66,15 +66,20 @@ fn pbrt_export_of_a_ggx_fit_prints_roughness_alpha_squared() {
 #[test]
 fn radiance_export_writes_four_klems_blocks() {
     let dir = CaseDir::new("export-radiance");
-    for (layer, method) in [
-        ("pane", "Monte Carlo: 64 cosine-weighted"),
-        ("interface", "deterministic quadrature"),
+    for (layer, walks, method) in [
+        (
+            "pane",
+            &["--walks", "64"][..],
+            "Monte Carlo: 64 cosine-weighted",
+        ),
+        ("interface", &[], "deterministic quadrature"),
     ] {
         let path = dir.join(&format!("{layer}.xml"));
-        cli()
-            .run(&[
+        let fits = example_fits();
+        let args = [
+            &[
                 "export",
-                &example_fits(),
+                fits.as_str(),
                 "--to",
                 "radiance",
                 "--sample",
@@ -83,12 +88,13 @@ fn radiance_export_writes_four_klems_blocks() {
                 "student-t",
                 "--layer",
                 layer,
-                "--walks",
-                "64",
                 "--out",
                 path.to_str().unwrap(),
-            ])
-            .ok();
+            ][..],
+            walks,
+        ]
+        .concat();
+        cli().run(&args).ok();
         let xml = std::fs::read_to_string(&path).unwrap();
         for b in [
             "Transmission Front",
@@ -326,7 +332,64 @@ fn radiance_flags_where_they_do_not_apply_are_refused_and_out_folders_are_made()
         let err = cli().run(&args).fails_with(2).to_string();
         assert!(err.contains("--"), "{args:?}: {err}");
     }
+    // The walks of a Radiance interface are those of an all-orders fit's orders >= 2: refused
+    // for single-scattering fits, accepted for an all-orders one.
     let dir = CaseDir::new("export-new-folder");
+    for flag in ["--walks", "--seed"] {
+        let err = cli()
+            .run(&[
+                "export",
+                &fits,
+                "--to",
+                "radiance",
+                "--layer",
+                "interface",
+                "--sample",
+                "frosted",
+                "--model",
+                "ggx",
+                flag,
+                "64",
+                "--out",
+                dir.join("single.xml").to_str().unwrap(),
+            ])
+            .fails_with(2)
+            .to_string();
+        assert!(err.contains(&format!("{flag} applies")), "{err}");
+    }
+    let all = dir.join("all-orders.json");
+    let data = project_root().join("fits/example.csv");
+    cli()
+        .run(&[
+            data.to_str().unwrap(),
+            "--sample",
+            "frosted",
+            "--model",
+            "ggx",
+            "--orders",
+            "all",
+            "--walks",
+            "200",
+            "--out",
+            all.to_str().unwrap(),
+        ])
+        .ok();
+    cli()
+        .run(&[
+            "export",
+            all.to_str().unwrap(),
+            "--to",
+            "radiance",
+            "--layer",
+            "interface",
+            "--walks",
+            "8",
+            "--seed",
+            "3",
+            "--out",
+            dir.join("all.xml").to_str().unwrap(),
+        ])
+        .ok();
     let folder = format!("{}/made/", dir.path().display());
     let run = cli().run(&[
         "export", &fits, "--to", "mitsuba3", "--sample", "frosted", "--out", &folder,

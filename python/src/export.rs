@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use stfit_export::radiance::{DEFAULT_WALKS_PER_PATCH, LayerKind, QuadratureRule, RadianceOptions};
-use stfit_export::{BatchError, Destination, Selection, Target, export_fits};
+use stfit_export::{BatchError, Destination, Selection, Target, export_fits, radiance_walks_apply};
 use stfit_fit::{FitResult, FitsFile, ModelKind};
 
 use crate::errors::{arg_error, os_error, value_error};
@@ -131,6 +131,16 @@ pub fn export(
     }
     let selection = selection(sample, model)?;
     let (fits, file) = fits_of(fits)?;
+    let defaults = RadianceOptions::default();
+    if (walks, seed) != (defaults.walks_per_patch, defaults.seed)
+        && !radiance_walks_apply(&fits, &selection, radiance.layer)
+    {
+        return Err(value_error(
+            "walks and seed apply to the pane and to the orders >= 2 of all-orders fits; the \
+             interface of the selected single-scattering fits is integrated by quadrature, \
+             without walks",
+        ));
+    }
     let dest = match out.as_deref() {
         None => Destination::Stdout,
         Some(p) if p.is_dir() => Destination::Folder(p),

@@ -6,7 +6,9 @@ use std::path::PathBuf;
 
 use clap::{Args as ClapArgs, ValueEnum};
 use stfit_export::radiance::{DEFAULT_WALKS_PER_PATCH, LayerKind, QuadratureRule, RadianceOptions};
-use stfit_export::{BatchError, Destination, FitExport, Selection, Target, export_fits};
+use stfit_export::{
+    BatchError, Destination, FitExport, Selection, Target, export_fits, radiance_walks_apply,
+};
 use stfit_fit::{FitsFile, ModelKind};
 
 use super::{CmdResult, Retired, failed, print_stdout, usage, write_file};
@@ -144,6 +146,23 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
         }),
     };
     let file = FitsFile::read(&args.fits).map_err(failed)?;
+    let walk_flags: Vec<&str> = given
+        .iter()
+        .map(String::as_str)
+        .filter(|f| matches!(*f, "--walks" | "--seed"))
+        .collect();
+    if !walk_flags.is_empty() && !radiance_walks_apply(&file.fits, &selection, radiance.layer) {
+        return Err(usage(format!(
+            "{} {} to the pane and to the orders >= 2 of all-orders fits; the interface of the \
+             selected single-scattering fits is integrated by quadrature, without walks",
+            walk_flags.join(" and "),
+            if walk_flags.len() == 1 {
+                "applies"
+            } else {
+                "apply"
+            }
+        )));
+    }
     let dest = match args.out.as_deref() {
         None => Destination::Stdout,
         Some(p) if p.is_dir() => Destination::Folder(p),

@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 use stfit_fit::FitResult;
 use thiserror::Error;
 
-use crate::radiance::RadianceOptions;
+use stfit_core::walk::ScatteringOrders;
+
+use crate::radiance::{LayerKind, RadianceOptions};
 use crate::{Export, ExportError, Selection, Target, export_fit, file_name, fit_identifier, join};
 
 /// Where the files of an export go.
@@ -120,6 +122,17 @@ pub fn export_fits(
         .collect::<Result<Vec<_>, _>>()?;
     let outputs = outputs(&exports, target, dest)?;
     Ok(Batch { exports, outputs })
+}
+
+/// Whether the walks of [`RadianceOptions`] (walks per patch and their seed) enter the Radiance
+/// export of the fits `selection` picks: always for the pane; for the interface only through
+/// the orders >= 2 of an all-orders fit (a single-scattering interface is integrated by
+/// quadrature). Front ends refuse walk options that would be ignored.
+pub fn radiance_walks_apply(fits: &[FitResult], selection: &Selection, layer: LayerKind) -> bool {
+    layer == LayerKind::Pane
+        || fits
+            .iter()
+            .any(|f| selection.matches(f) && f.model.orders == ScatteringOrders::All)
 }
 
 /// Refuses two fits with the same identifier ([`BatchError::SameName`]).

@@ -29,7 +29,9 @@ pub mod target;
 pub mod targets;
 pub mod translate;
 
-pub use batch::{Batch, BatchError, Destination, FitExport, Output, export_fits};
+pub use batch::{
+    Batch, BatchError, Destination, FitExport, Output, export_fits, radiance_walks_apply,
+};
 pub use error::ExportError;
 pub use model::ExportModel;
 pub use targets::{Export, ExportFile, Selection, Target, file_name, fit_identifier, join};
