@@ -67,6 +67,9 @@ pub struct StudentT {
     /// `Gamma(g-3/2 (+1 if g-3/2 < 1), 1)`: part 1, boosted to shape >= 1 so that tiny `m`
     /// can be drawn in log space.
     part1: Gamma<f64>,
+    /// `Gamma(g-5/2, 1)` for gamma >= 7/2: the proposal of the sampler below the horizon
+    /// where the visibility gap is small (see [`StudentT::sample_visible`]).
+    below: Option<Gamma<f64>>,
     /// gamma > 1e3: `ln(1 + x)` by `log1p`, whose rounding is not multiplied by gamma.
     exact_log: bool,
     /// gamma itself for an integer gamma up to [`StudentT::MAX_POWER`]: the powers of D and
@@ -145,6 +148,11 @@ impl StudentT {
             w1_scale,
             mix: Gamma::new(g1, 1.0).map_err(|_| param("gamma", gamma))?,
             part1: Gamma::new(boosted, 1.0).map_err(|_| param("gamma", gamma))?,
+            below: if gamma >= 3.5 {
+                Some(Gamma::new(gamma - 2.5, 1.0).map_err(|_| param("gamma", gamma))?)
+            } else {
+                None
+            },
             exact_log: gamma > 1e3,
             int_gamma: (gamma.fract() == 0.0 && gamma <= f64::from(Self::MAX_POWER))
                 .then_some(gamma as i32),
@@ -509,7 +517,10 @@ impl Ndf for StudentT {
     /// `alpha_m = alpha sqrt((g-1)/m)`. With `k = mu^2 / (alpha^2 (g-1))`, `a(m) = sqrt(k m)`:
     /// above the horizon the tilted density is part 1 (weight `W1`, `Gamma(g-3/2, rate 1+k)`)
     /// plus `Gamma(g-1)` thinned by `(1 + erf(a))/2` (weight `c`); below it, part 1 thinned by
-    /// `1 - sqrt(pi) a erfcx(a)`.
+    /// the visibility gap `1 - sqrt(pi) a erfcx(a)`, or, where the gap is small (gamma >= 7/2
+    /// and `k (g - 5/2) > 1 + k`, the mean `a^2` of the proposal above 1), `Gamma(g-5/2, rate
+    /// 1+k)` thinned by `2 a^2` times the gap, whose acceptance tends to 1 as `a` grows (at
+    /// gamma 1e8 the first form accepted 1 draw in 1e8).
     fn sample_visible<R: Rng + ?Sized>(&self, w: Vec3, rng: &mut R) -> Vec3 {
         if let Some(b) = &self.limit {
             return b.sample_visible(w, rng);
@@ -536,6 +547,20 @@ impl Ndf for StudentT {
                 let m = self.mix.sample(rng);
                 let v = open_uniform(rng);
                 if m > 0.0 && (v >= 0.5 || v >= 0.5 * erfc_and_gauss((k * m).sqrt()).0) {
+                    break m.sqrt();
+                }
+            } else if let Some(below) = self
+                .below
+                .as_ref()
+                .filter(|_| k * (self.gamma - 2.5) > 1.0 + k)
+            {
+                // Where a^2 = k m is large, the gap is about 1 / (2 a^2), so part 1 is thinned
+                // heavily; m ~ Gamma(g - 5/2, rate 1 + k) carries that 1 / m already and is
+                // accepted with `2 a^2 gap(a) < 1` (by erfcx(a) > 2 / (sqrt(pi) (a + sqrt(a^2
+                // + 2))), Abramowitz and Stegun 7.1.13), which tends to 1.
+                let m = below.sample(rng) / (1.0 + k);
+                let a2 = k * m;
+                if m > 0.0 && open_uniform(rng) < 2.0 * a2 * erfcx_gap(a2.sqrt()) {
                     break m.sqrt();
                 }
             } else {
