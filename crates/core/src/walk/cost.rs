@@ -46,13 +46,14 @@ pub struct WalkCost {
 }
 
 impl WalkCost {
-    /// The cost of [`Estimator::albedo`] from `wi`: runs batches of [`PILOT_WALKS`], 4 times
-    /// as many, ... walks from `wi` on one thread (random numbers of their own, from `seed`;
-    /// the estimates of the run itself are unchanged) until a batch lasts [`PILOT_SECONDS`] or
-    /// reaches [`PILOT_MAX_WALKS`] walks, and reads the cost off the last batch.
-    pub fn measure(estimator: &dyn Estimator, wi: Vec3, seed: u64) -> Self {
-        let (pilot, seconds_per_walk) = time_batches(PILOT_MAX_WALKS, |walks, batch| {
-            estimator.albedo(wi, walks, seed.wrapping_add(batch))
+    /// The cost of [`Estimator::albedo`] from `wi` for a run of `walks` walks: runs batches of
+    /// [`PILOT_WALKS`], 4 times as many, ... walks from `wi` on one thread (random numbers of
+    /// their own, from `seed`; the estimates of the run itself are unchanged) until a batch
+    /// lasts [`PILOT_SECONDS`] or reaches [`PILOT_MAX_WALKS`] walks or the run's `walks`, and
+    /// reads the cost off the last batch.
+    pub fn measure(estimator: &dyn Estimator, wi: Vec3, walks: u64, seed: u64) -> Self {
+        let (pilot, seconds_per_walk) = time_batches(walks.min(PILOT_MAX_WALKS), |n, batch| {
+            estimator.albedo(wi, n, seed.wrapping_add(batch))
         });
         Self {
             mean_bounces: pilot.mean_bounces,
@@ -111,7 +112,8 @@ impl WalkCost {
 
 /// Runs `run(walks, batch)` for `walks` = [`PILOT_WALKS`], 4 times as many, ... on one
 /// thread until a batch lasts [`PILOT_SECONDS`] or reaches `max_walks` walks, returning the
-/// last batch's result and its wall time per walk.
+/// last batch's result and its wall time per walk. Every batch is at most `max_walks`, and
+/// the batches before the last take less than [`PILOT_SECONDS`] each.
 fn time_batches<T: Send>(max_walks: u64, run: impl Fn(u64, u64) -> T + Send + Sync) -> (T, f64) {
     single_threaded(|| {
         let mut walks = PILOT_WALKS.min(max_walks).max(1);
@@ -167,7 +169,7 @@ mod tests {
                 StudentT::new(alpha, gamma).unwrap(),
                 DielectricFacet::new(1.5).unwrap(),
             );
-            WalkCost::measure(&glass, wi, 3)
+            WalkCost::measure(&glass, wi, 100_000, 3)
         };
         let short = cost(0.3, 3.0);
         let long = cost(2.0, 1.51);
