@@ -31,7 +31,7 @@ pub enum Smith {
     /// `1 / (1 + Lambda(wi) + Lambda(wo))` for reflection and transmission alike, exact
     /// Lambda: the height-correlated form of reflection, used for transmission too. pbrt-v4
     /// `TrowbridgeReitzDistribution::G` (mmp/pbrt-v4, src/pbrt/util/scattering.h, used by
-    /// `DielectricBxDF::f`, src/pbrt/bxdfs.h), appleseed `StdMDF::G` / `GGXMDF::G`
+    /// `DielectricBxDF::f`, src/pbrt/bxdfs.h), appleseed `GGXMDF::G`
     /// (appleseedhq/appleseed, src/appleseed/foundation/math/microfacet.cpp, used by
     /// `GlassBSDF`, src/appleseed/renderer/modeling/bsdf/glassbsdf.cpp), and the OpenPBR
     /// viewer's `ggx_G2`.
