@@ -69,7 +69,7 @@ pub enum TargetArg {
     PbrtV4,
     /// Blender Cycles Glass and Principled BSDF (Python for Blender).
     Cycles,
-    /// appleseed glass_bsdf with its STD (Student-T) microfacets.
+    /// appleseed glass_bsdf (GGX; Beckmann and Student-T fits translated).
     Appleseed,
     /// OpenPBR open_pbr_surface (MaterialX), specular haze where meaningful.
     Openpbr,
