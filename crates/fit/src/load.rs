@@ -423,9 +423,12 @@ pub(crate) fn read_records(
     bytes: &[u8],
 ) -> Result<Vec<(u64, csv::ByteRecord)>, LoadError> {
     let bytes = strip_comments(bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes));
+    // Only `\n` ends a line (`\r\n` too, its `\r` trimmed with the field's whitespace): a
+    // lone `\r` is not a line end.
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
+        .terminator(csv::Terminator::Any(b'\n'))
         .from_reader(bytes.as_slice());
     let mut lines = LineCounter::new(&bytes);
     let mut out = Vec::new();
@@ -485,7 +488,8 @@ fn is_blank(record: &csv::ByteRecord) -> bool {
 /// Converts the positions of records, met in file order, to 1-based line numbers.
 ///
 /// The CSV reader's own position of a record is where it started scanning for it, before the
-/// empty lines it skips, so the record's first byte is found by skipping line breaks from there.
+/// empty lines (`\n` only) it skips, so the record's first byte is found by skipping `\n`s from
+/// there.
 struct LineCounter<'a> {
     bytes: &'a [u8],
     offset: usize,
@@ -512,7 +516,7 @@ impl<'a> LineCounter<'a> {
         let start = scan_start
             + self.bytes[scan_start..]
                 .iter()
-                .take_while(|&&b| b == b'\r' || b == b'\n')
+                .take_while(|&&b| b == b'\n')
                 .count();
         let newlines = self.bytes[self.offset..start]
             .iter()
@@ -913,6 +917,23 @@ mod tests {
         assert_eq!(kind_at(&crlf).0, Some(7));
         let quoted = "\n\nsample,theta_i_deg,theta_o_deg,L\r\n\r\n\"a\n\nb\",0,180,1\n  \n\n\"c\",0,180,-1\n";
         assert_eq!(kind_at(quoted).0, Some(10));
+    }
+
+    /// Line ends are `\n` or `\r\n`; a lone `\r` (old Mac line ends) is not one, so such a
+    /// file is one line, whose header lacks the value column.
+    #[test]
+    fn a_lone_carriage_return_does_not_end_a_line() {
+        let (line, column, kind) = kind_at("theta_i_deg,theta_o_deg,L\r0,180,1\r30,200,-1\r");
+        assert_eq!(line, Some(1));
+        assert_eq!(column.as_deref(), Some("L or sqrt_L"));
+        assert!(matches!(kind, LoadErrorKind::MissingValueColumn { .. }), "{kind:?}");
+        let (line, column, _) = kind_at("theta_i_deg,theta_o_deg,L\n0,180,1\r\n30,200,1\r0\n");
+        assert_eq!(line, Some(3));
+        assert_eq!(column.as_deref(), Some("L"));
+        let d = load("sample,theta_i_deg,theta_o_deg,L\r\n\"a\",0,180,1\r\n\r\n\"b\" ,0,180,2\r\n")
+            .unwrap();
+        let names: Vec<_> = d.samples.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["a", "b"]);
     }
 
     #[test]
