@@ -437,10 +437,11 @@ pub(crate) fn read_records(
             let line = e.position().map(csv::Position::line);
             LoadError::new(source, line, None, LoadErrorKind::Csv(e.to_string()))
         })?;
-        if is_blank(&record) {
+        let line = lines.line_of(&record);
+        // A blank line, not one holding a quoted field (`""`).
+        if is_blank(&record) && bytes.get(lines.offset) != Some(&b'"') {
             continue;
         }
-        let line = lines.line_of(&record);
         out.push((line, record));
     }
     Ok(out)
@@ -934,6 +935,17 @@ mod tests {
             .unwrap();
         let names: Vec<_> = d.samples.iter().map(|s| s.name.as_str()).collect();
         assert_eq!(names, ["a", "b"]);
+    }
+
+    /// A line holding one quoted empty field is a row, not a blank line.
+    #[test]
+    fn a_quoted_empty_field_is_not_a_blank_line() {
+        let (line, column, kind) = kind_at("theta_i_deg,theta_o_deg,L\n0,180,1\n\"\"\n");
+        assert_eq!(line, Some(3));
+        assert_eq!(column.as_deref(), Some("theta_o_deg"));
+        assert!(matches!(kind, LoadErrorKind::ShortRow { .. }), "{kind:?}");
+        let (line, _, _) = kind_at("theta_i_deg,theta_o_deg,L\r\n0,180,1\r\n\r\n\"  \"\r\n");
+        assert_eq!(line, Some(4));
     }
 
     #[test]
