@@ -279,22 +279,30 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
         }
         seen.push((canonical, file));
     }
-    let mut samples: Vec<Sample> = Vec::new();
+    // Each sample with the file and line of its first row, to place a sample-wide error.
+    let mut samples: Vec<(Sample, &Path, Option<u64>)> = Vec::new();
     for file in &files {
         let bytes = std::fs::read(file).map_err(|e| io(file, e))?;
         let parts = if crate::pabopto::is_pabopto(&bytes) {
             let (name, points) = crate::pabopto::read_pabopto(file, &bytes)?;
-            vec![Sample { name, points }]
+            vec![(Sample { name, points }, None)]
         } else {
-            load_bytes(file, &bytes)?.samples
+            let (records, quote_problem) = records_until_quote_problem(file, &bytes)?;
+            samples_from_records(file, records, quote_problem)?
+                .into_iter()
+                .map(|(sample, line)| (sample, Some(line)))
+                .collect()
         };
-        for part in parts {
-            match samples.iter_mut().find(|s| s.name == part.name) {
-                Some(s) => s.points.extend(part.points),
-                None => samples.push(part),
+        for (part, line) in parts {
+            match samples.iter_mut().find(|(s, ..)| s.name == part.name) {
+                Some((s, ..)) => s.points.extend(part.points),
+                None => samples.push((part, file, line)),
             }
         }
     }
+    // A sample's weights are checked once its points of every file are merged.
+    check_weights(samples.iter().map(|(s, file, line)| (s, *file, *line)))?;
+    let samples = samples.into_iter().map(|(s, ..)| s).collect();
     let source = match paths {
         [one] => one.clone(),
         many => PathBuf::from(
@@ -374,6 +382,39 @@ fn dataset_from_records(
     records: Vec<(u64, csv::ByteRecord)>,
     pending: Option<LoadError>,
 ) -> Result<Dataset, LoadError> {
+    let samples = samples_from_records(source, records, pending)?;
+    check_weights(samples.iter().map(|(s, line)| (s, source, Some(*line))))?;
+    Ok(Dataset {
+        source: source.to_path_buf(),
+        samples: samples.into_iter().map(|(s, _)| s).collect(),
+    })
+}
+
+/// Refuses a sample whose every weight is 0, placed at its `file` and the `line` of its
+/// first row.
+fn check_weights<'a>(
+    samples: impl IntoIterator<Item = (&'a Sample, &'a Path, Option<u64>)>,
+) -> Result<(), LoadError> {
+    for (sample, file, line) in samples {
+        if sample.points.iter().all(|p| p.weight == 0.0) {
+            return Err(LoadError::new(
+                file,
+                line,
+                Some(COL_WEIGHT),
+                LoadErrorKind::AllWeightsZero(sample.name.clone()),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The samples of a header record and data records (as [`dataset_from_records`] reads them,
+/// weights not yet checked), each with the line of its first row.
+fn samples_from_records(
+    source: &Path,
+    records: Vec<(u64, csv::ByteRecord)>,
+    pending: Option<LoadError>,
+) -> Result<Vec<(Sample, u64)>, LoadError> {
     let mut records = records.into_iter();
     let Some((header_line, header_record)) = records.next() else {
         return Err(
@@ -413,20 +454,7 @@ fn dataset_from_records(
             LoadErrorKind::NoRows,
         ));
     }
-    for (sample, &line) in samples.iter().zip(&first_line) {
-        if sample.points.iter().all(|p| p.weight == 0.0) {
-            return Err(LoadError::new(
-                source,
-                Some(line),
-                Some(COL_WEIGHT),
-                LoadErrorKind::AllWeightsZero(sample.name.clone()),
-            ));
-        }
-    }
-    Ok(Dataset {
-        source: source.to_path_buf(),
-        samples,
-    })
+    Ok(samples.into_iter().zip(first_line).collect())
 }
 
 /// The records of a CSV text as every stfit file is read (the text rules of
@@ -1389,6 +1417,33 @@ mod tests {
             let e = load_paths(&twice).unwrap_err();
             assert!(matches!(e.kind, LoadErrorKind::Repeated(_)), "{e}");
         }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Every weight of a sample's rows in one file may be 0 when another file gives the
+    /// sample a positive weight: the rule is on the merged sample, placed at its first row.
+    #[test]
+    fn zero_weights_are_checked_on_samples_merged_across_files() {
+        let dir = std::env::temp_dir().join(format!("stfit-load-weights-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let head = "sample,theta_i_deg,theta_o_deg,L,weight\n";
+        let write = |name: &str, rows: &str| {
+            let path = dir.join(name);
+            std::fs::write(&path, format!("{head}{rows}")).unwrap();
+            path
+        };
+        let tails = write("tails.csv", "a,0,180,1,0\nb,0,180,1,1\na,30,200,1,0\n");
+        let peak = write("peak.csv", "a,10,190,1,2\n");
+        let other = write("other.csv", "c,10,190,1,2\n");
+        let d = load_paths(&[tails.clone(), peak]).unwrap();
+        let names: Vec<_> = d.samples.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["a", "b"]);
+        assert_eq!(d.samples[0].points.len(), 3);
+        let e = load_paths(&[other, tails.clone()]).unwrap_err();
+        assert_eq!((e.file, e.line), (tails, Some(2)));
+        assert_eq!(e.column.as_deref(), Some(COL_WEIGHT));
+        assert_eq!(e.kind, LoadErrorKind::AllWeightsZero("a".into()));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
