@@ -202,6 +202,13 @@ pub enum LoadErrorKind {
     /// The CSV structure itself is broken.
     #[error("malformed CSV: {0}")]
     Csv(String),
+    /// Text after the closing quote of a quoted field (RFC 4180 allows none; only the
+    /// whitespace trimmed around every field may follow it).
+    #[error("text after the closing quote of a quoted field (a quote inside one is written twice)")]
+    TextAfterQuote,
+    /// A quoted field whose closing quote never comes.
+    #[error("a quoted field is not closed before the end of the file")]
+    UnterminatedQuote,
     /// An in-memory column whose length differs from the first column's.
     #[error("has {found} rows, the first column {expected}")]
     ColumnLength { found: usize, expected: usize },
@@ -272,22 +279,30 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
         }
         seen.push((canonical, file));
     }
-    let mut samples: Vec<Sample> = Vec::new();
+    // Each sample with the file and line of its first row, to place a sample-wide error.
+    let mut samples: Vec<(Sample, &Path, Option<u64>)> = Vec::new();
     for file in &files {
         let bytes = std::fs::read(file).map_err(|e| io(file, e))?;
         let parts = if crate::pabopto::is_pabopto(&bytes) {
             let (name, points) = crate::pabopto::read_pabopto(file, &bytes)?;
-            vec![Sample { name, points }]
+            vec![(Sample { name, points }, None)]
         } else {
-            load_bytes(file, &bytes)?.samples
+            let (records, quote_problem) = records_until_quote_problem(file, &bytes)?;
+            samples_from_records(file, records, quote_problem)?
+                .into_iter()
+                .map(|(sample, line)| (sample, Some(line)))
+                .collect()
         };
-        for part in parts {
-            match samples.iter_mut().find(|s| s.name == part.name) {
-                Some(s) => s.points.extend(part.points),
-                None => samples.push(part),
+        for (part, line) in parts {
+            match samples.iter_mut().find(|(s, ..)| s.name == part.name) {
+                Some((s, ..)) => s.points.extend(part.points),
+                None => samples.push((part, file, line)),
             }
         }
     }
+    // A sample's weights are checked once its points of every file are merged.
+    check_weights(samples.iter().map(|(s, file, line)| (s, *file, *line)))?;
+    let samples = samples.into_iter().map(|(s, ..)| s).collect();
     let source = match paths {
         [one] => one.clone(),
         many => PathBuf::from(
@@ -302,7 +317,8 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
 
 /// Parses and validates measurement-file contents; `source` names them in errors.
 pub fn load_bytes(source: &Path, bytes: &[u8]) -> Result<Dataset, LoadError> {
-    dataset_from_records(source, read_records(source, bytes)?)
+    let (records, quote_problem) = records_until_quote_problem(source, bytes)?;
+    dataset_from_records(source, records, quote_problem)
 }
 
 /// One column of an in-memory table of measurements (see [`load_columns`]).
@@ -356,17 +372,54 @@ pub fn load_columns(source: &Path, columns: &[(String, Column)]) -> Result<Datas
         let record: csv::ByteRecord = columns.iter().map(|(_, c)| c.field(k)).collect();
         records.push((k as u64 + 2, record));
     }
-    dataset_from_records(source, records)
+    dataset_from_records(source, records, None)
 }
 
-/// Validates a header record and data records, each with its 1-based line, into a dataset.
+/// Validates a header record and data records, each with its 1-based line, into a dataset;
+/// `pending` is the problem of the row after the last record, reported once those are read.
 fn dataset_from_records(
     source: &Path,
     records: Vec<(u64, csv::ByteRecord)>,
+    pending: Option<LoadError>,
 ) -> Result<Dataset, LoadError> {
+    let samples = samples_from_records(source, records, pending)?;
+    check_weights(samples.iter().map(|(s, line)| (s, source, Some(*line))))?;
+    Ok(Dataset {
+        source: source.to_path_buf(),
+        samples: samples.into_iter().map(|(s, _)| s).collect(),
+    })
+}
+
+/// Refuses a sample whose every weight is 0, placed at its `file` and the `line` of its
+/// first row.
+fn check_weights<'a>(
+    samples: impl IntoIterator<Item = (&'a Sample, &'a Path, Option<u64>)>,
+) -> Result<(), LoadError> {
+    for (sample, file, line) in samples {
+        if sample.points.iter().all(|p| p.weight == 0.0) {
+            return Err(LoadError::new(
+                file,
+                line,
+                Some(COL_WEIGHT),
+                LoadErrorKind::AllWeightsZero(sample.name.clone()),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The samples of a header record and data records (as [`dataset_from_records`] reads them,
+/// weights not yet checked), each with the line of its first row.
+fn samples_from_records(
+    source: &Path,
+    records: Vec<(u64, csv::ByteRecord)>,
+    pending: Option<LoadError>,
+) -> Result<Vec<(Sample, u64)>, LoadError> {
     let mut records = records.into_iter();
     let Some((header_line, header_record)) = records.next() else {
-        return Err(LoadError::new(source, Some(1), None, LoadErrorKind::Empty));
+        return Err(
+            pending.unwrap_or_else(|| LoadError::new(source, Some(1), None, LoadErrorKind::Empty))
+        );
     };
     let header = Header::parse(source, header_line, &header_record)?;
 
@@ -390,6 +443,9 @@ fn dataset_from_records(
         };
         samples[slot].points.push(point);
     }
+    if let Some(problem) = pending {
+        return Err(problem);
+    }
     if samples.is_empty() {
         return Err(LoadError::new(
             source,
@@ -398,20 +454,7 @@ fn dataset_from_records(
             LoadErrorKind::NoRows,
         ));
     }
-    for (sample, &line) in samples.iter().zip(&first_line) {
-        if sample.points.iter().all(|p| p.weight == 0.0) {
-            return Err(LoadError::new(
-                source,
-                Some(line),
-                Some(COL_WEIGHT),
-                LoadErrorKind::AllWeightsZero(sample.name.clone()),
-            ));
-        }
-    }
-    Ok(Dataset {
-        source: source.to_path_buf(),
-        samples,
-    })
+    Ok(samples.into_iter().zip(first_line).collect())
 }
 
 /// The records of a CSV text as every stfit file is read (the text rules of
@@ -422,10 +465,28 @@ pub(crate) fn read_records(
     source: &Path,
     bytes: &[u8],
 ) -> Result<Vec<(u64, csv::ByteRecord)>, LoadError> {
-    let bytes = strip_comments(bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes));
+    match records_until_quote_problem(source, bytes)? {
+        (_, Some(problem)) => Err(problem),
+        (records, None) => Ok(records),
+    }
+}
+
+/// Records of a CSV text, each with its 1-based line.
+type Records = Vec<(u64, csv::ByteRecord)>;
+
+/// The records of [`read_records`] before the first row whose quoting RFC 4180 does not
+/// allow, and the error for that row, so that problems of earlier rows can be reported first.
+fn records_until_quote_problem(
+    source: &Path,
+    bytes: &[u8],
+) -> Result<(Records, Option<LoadError>), LoadError> {
+    let (bytes, problem) = strip_comments(bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes));
+    // Only `\n` ends a line (`\r\n` too, its `\r` trimmed with the field's whitespace): a
+    // lone `\r` is not a line end.
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
+        .terminator(csv::Terminator::Any(b'\n'))
         .from_reader(bytes.as_slice());
     let mut lines = LineCounter::new(&bytes);
     let mut out = Vec::new();
@@ -434,13 +495,41 @@ pub(crate) fn read_records(
             let line = e.position().map(csv::Position::line);
             LoadError::new(source, line, None, LoadErrorKind::Csv(e.to_string()))
         })?;
-        if is_blank(&record) {
+        let line = lines.line_of(&record);
+        if problem.as_ref().is_some_and(|p| line >= p.line) {
+            break;
+        }
+        // A blank line, not one holding a quoted field (`""`).
+        if is_blank(&record) && bytes.get(lines.offset) != Some(&b'"') {
             continue;
         }
-        let line = lines.line_of(&record);
         out.push((line, record));
     }
-    Ok(out)
+    let problem = problem.map(|p| p.error(source, out.first().map(|(_, header)| header)));
+    Ok((out, problem))
+}
+
+/// A quoted field that RFC 4180 does not allow, on the row starting at `line`, in its field
+/// `field` (0-based).
+struct QuoteProblem {
+    line: u64,
+    field: usize,
+    kind: LoadErrorKind,
+}
+
+impl QuoteProblem {
+    /// The error, the field named by `header` (the file's header record, `None` when the
+    /// problem is in the header itself).
+    fn error(self, source: &Path, header: Option<&csv::ByteRecord>) -> LoadError {
+        let column = match header {
+            None => format!("header field {}", self.field + 1),
+            Some(h) => h.get(self.field).map_or_else(
+                || format!("extra field {}", self.field + 1),
+                |name| String::from_utf8_lossy(name).trim().to_owned(),
+            ),
+        };
+        LoadError::new(source, Some(self.line), Some(&column), self.kind)
+    }
 }
 
 /// The trimmed UTF-8 fields of a record; a field that is not UTF-8 is an error naming its
@@ -485,7 +574,8 @@ fn is_blank(record: &csv::ByteRecord) -> bool {
 /// Converts the positions of records, met in file order, to 1-based line numbers.
 ///
 /// The CSV reader's own position of a record is where it started scanning for it, before the
-/// empty lines it skips, so the record's first byte is found by skipping line breaks from there.
+/// empty lines (`\n` only) it skips, so the record's first byte is found by skipping `\n`s from
+/// there.
 struct LineCounter<'a> {
     bytes: &'a [u8],
     offset: usize,
@@ -512,7 +602,7 @@ impl<'a> LineCounter<'a> {
         let start = scan_start
             + self.bytes[scan_start..]
                 .iter()
-                .take_while(|&&b| b == b'\r' || b == b'\n')
+                .take_while(|&&b| b == b'\n')
                 .count();
         let newlines = self.bytes[self.offset..start]
             .iter()
@@ -525,8 +615,10 @@ impl<'a> LineCounter<'a> {
 }
 
 /// Empties every comment line (a line whose first byte is `#`, outside a quoted field),
-/// keeping its line break so that the CSV reader's line numbers stay those of the file.
-fn strip_comments(bytes: &[u8]) -> Vec<u8> {
+/// keeping its line break so that the CSV reader's line numbers stay those of the file, and
+/// finds the first quoted field that RFC 4180 does not allow: text after its closing quote
+/// (whitespace aside), or no closing quote. The bytes end at that problem.
+fn strip_comments(bytes: &[u8]) -> (Vec<u8>, Option<QuoteProblem>) {
     #[derive(Clone, Copy)]
     enum State {
         LineStart,
@@ -534,11 +626,20 @@ fn strip_comments(bytes: &[u8]) -> Vec<u8> {
         Unquoted,
         Quoted,
         QuoteInQuoted,
+        AfterQuoted,
         Comment,
     }
     let mut out = Vec::with_capacity(bytes.len());
     let mut state = State::LineStart;
+    // The current line, and the line and field of the row being read.
+    let (mut line, mut row_line, mut field) = (1u64, 1u64, 0usize);
     for &b in bytes {
+        if matches!(state, State::LineStart) && b != b'#' {
+            (row_line, field) = (line, 0);
+        }
+        if b == b'\n' {
+            line += 1;
+        }
         state = match (state, b) {
             (State::Comment, b'\n') => State::LineStart,
             (State::Comment, _) => continue,
@@ -549,14 +650,34 @@ fn strip_comments(bytes: &[u8]) -> Vec<u8> {
             (State::Quoted, b'"') => State::QuoteInQuoted,
             (State::Quoted, _) => State::Quoted,
             (State::QuoteInQuoted, b'"') => State::Quoted,
-            (State::LineStart | State::FieldStart, b'"') => State::Quoted,
+            (State::QuoteInQuoted | State::AfterQuoted, b' ' | b'\t' | b'\r') => State::AfterQuoted,
             (_, b'\n') => State::LineStart,
-            (_, b',') => State::FieldStart,
+            (_, b',') => {
+                field += 1;
+                State::FieldStart
+            }
+            (State::QuoteInQuoted | State::AfterQuoted, _) => {
+                let kind = LoadErrorKind::TextAfterQuote;
+                return (
+                    out,
+                    Some(QuoteProblem {
+                        line: row_line,
+                        field,
+                        kind,
+                    }),
+                );
+            }
+            (State::LineStart | State::FieldStart, b'"') => State::Quoted,
             _ => State::Unquoted,
         };
         out.push(b);
     }
-    out
+    let problem = matches!(state, State::Quoted).then_some(QuoteProblem {
+        line: row_line,
+        field,
+        kind: LoadErrorKind::UnterminatedQuote,
+    });
+    (out, problem)
 }
 
 /// Which value column the file gives.
@@ -915,6 +1036,77 @@ mod tests {
         assert_eq!(kind_at(quoted).0, Some(10));
     }
 
+    /// Line ends are `\n` or `\r\n`; a lone `\r` (old Mac line ends) is not one, so such a
+    /// file is one line, whose header lacks the value column.
+    #[test]
+    fn a_lone_carriage_return_does_not_end_a_line() {
+        let (line, column, kind) = kind_at("theta_i_deg,theta_o_deg,L\r0,180,1\r30,200,-1\r");
+        assert_eq!(line, Some(1));
+        assert_eq!(column.as_deref(), Some("L or sqrt_L"));
+        assert!(
+            matches!(kind, LoadErrorKind::MissingValueColumn { .. }),
+            "{kind:?}"
+        );
+        let (line, column, _) = kind_at("theta_i_deg,theta_o_deg,L\n0,180,1\r\n30,200,1\r0\n");
+        assert_eq!(line, Some(3));
+        assert_eq!(column.as_deref(), Some("L"));
+        let d = load("sample,theta_i_deg,theta_o_deg,L\r\n\"a\",0,180,1\r\n\r\n\"b\" ,0,180,2\r\n")
+            .unwrap();
+        let names: Vec<_> = d.samples.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["a", "b"]);
+    }
+
+    /// A line holding one quoted empty field is a row, not a blank line.
+    #[test]
+    fn a_quoted_empty_field_is_not_a_blank_line() {
+        let (line, column, kind) = kind_at("theta_i_deg,theta_o_deg,L\n0,180,1\n\"\"\n");
+        assert_eq!(line, Some(3));
+        assert_eq!(column.as_deref(), Some("theta_o_deg"));
+        assert!(matches!(kind, LoadErrorKind::ShortRow { .. }), "{kind:?}");
+        let (line, _, _) = kind_at("theta_i_deg,theta_o_deg,L\r\n0,180,1\r\n\r\n\"  \"\r\n");
+        assert_eq!(line, Some(4));
+    }
+
+    /// RFC 4180: only whitespace may follow a quoted field's closing quote, and a quoted field
+    /// must be closed. The row is placed at its first line, the field by its column, and a
+    /// problem of an earlier row comes first.
+    #[test]
+    fn text_after_a_closing_quote_or_an_unclosed_quote_is_refused() {
+        let head = "sample,theta_i_deg,theta_o_deg,L\n";
+        let at = |text: &str| {
+            let (line, column, kind) = kind_at(text);
+            (line, column.unwrap_or_default(), kind)
+        };
+        let after = LoadErrorKind::TextAfterQuote;
+        assert_eq!(
+            at(&format!("{head}a,0,180,1\n\"a\"b,0,180,1\n")),
+            (Some(3), "sample".into(), after.clone())
+        );
+        assert_eq!(
+            at(&format!("{head}\"a\nb\",\"0\" 1,180,1\n")),
+            (Some(2), "theta_i_deg".into(), after.clone())
+        );
+        assert_eq!(
+            at("\"sample\"x,theta_i_deg,theta_o_deg,L\n"),
+            (Some(1), "header field 1".into(), after.clone())
+        );
+        assert_eq!(
+            at(&format!("{head}a,0,180,1,\"x\"y\n")),
+            (Some(2), "extra field 5".into(), after)
+        );
+        assert_eq!(
+            at(&format!("{head}a,0,180,1\n\"b,0,180,1\n")),
+            (Some(3), "sample".into(), LoadErrorKind::UnterminatedQuote)
+        );
+        assert_eq!(
+            at(&format!("{head}a,0,180,x\n\"a\"b,0,180,1\n")),
+            (Some(2), "L".into(), LoadErrorKind::NotANumber("x".into()))
+        );
+        let d = load(&format!("{head}\"a\" \t,0,180,1\r\n\"b\"\"\",0,180,1\n")).unwrap();
+        let names: Vec<_> = d.samples.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["a", "b\""]);
+    }
+
     #[test]
     fn hash_only_starts_a_comment_at_the_start_of_a_line_outside_quotes() {
         let text = "sample,theta_i_deg,theta_o_deg,L\n\"a\n#b\",0,180,1\n\
@@ -1225,6 +1417,33 @@ mod tests {
             let e = load_paths(&twice).unwrap_err();
             assert!(matches!(e.kind, LoadErrorKind::Repeated(_)), "{e}");
         }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Every weight of a sample's rows in one file may be 0 when another file gives the
+    /// sample a positive weight: the rule is on the merged sample, placed at its first row.
+    #[test]
+    fn zero_weights_are_checked_on_samples_merged_across_files() {
+        let dir = std::env::temp_dir().join(format!("stfit-load-weights-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let head = "sample,theta_i_deg,theta_o_deg,L,weight\n";
+        let write = |name: &str, rows: &str| {
+            let path = dir.join(name);
+            std::fs::write(&path, format!("{head}{rows}")).unwrap();
+            path
+        };
+        let tails = write("tails.csv", "a,0,180,1,0\nb,0,180,1,1\na,30,200,1,0\n");
+        let peak = write("peak.csv", "a,10,190,1,2\n");
+        let other = write("other.csv", "c,10,190,1,2\n");
+        let d = load_paths(&[tails.clone(), peak]).unwrap();
+        let names: Vec<_> = d.samples.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["a", "b"]);
+        assert_eq!(d.samples[0].points.len(), 3);
+        let e = load_paths(&[other, tails.clone()]).unwrap_err();
+        assert_eq!((e.file, e.line), (tails, Some(2)));
+        assert_eq!(e.column.as_deref(), Some(COL_WEIGHT));
+        assert_eq!(e.kind, LoadErrorKind::AllWeightsZero("a".into()));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -100,7 +100,8 @@ pub fn is_pabopto(bytes: &[u8]) -> bool {
     let text = String::from_utf8_lossy(bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes));
     text.lines()
         .take_while(|l| l.starts_with('#') || l.trim().is_empty())
-        .any(|l| Key::split(l[1.min(l.len())..].trim_start()).is_some())
+        .filter_map(|l| l.strip_prefix('#'))
+        .any(|rest| Key::split(rest.trim_start()).is_some())
 }
 
 /// An error of the pab-opto file `source` at its 1-based `line`, in the field `column`.
@@ -491,6 +492,16 @@ mod tests {
         );
         assert!(is_pabopto(b"#format: theta phi BSDF\n"));
         assert!(!is_pabopto(b"# stfit synth\nsample,theta_i_deg\n"));
+    }
+
+    /// A file opening with a line of non-ASCII whitespace (a no-break space, an ideographic
+    /// space) is told apart without a panic, as the same file with an ASCII blank line is.
+    #[test]
+    fn opening_line_of_multibyte_whitespace_is_not_pabopto() {
+        assert!(!is_pabopto(
+            "\u{a0}\ntheta_i_deg,theta_o_deg,L\n".as_bytes()
+        ));
+        assert!(is_pabopto("\u{3000}\n#format: theta phi BSDF\n".as_bytes()));
     }
 
     /// XYZ triplets use their Y value; a file written and read back gives the same values.

@@ -8,6 +8,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use stfit_core::ScatteringOrders;
+
 use crate::data::Measured;
 use crate::model::Model;
 use crate::options::{Loss, MultipleTerm, Optimizer, check_fit_eta};
@@ -160,6 +162,70 @@ impl FitResult {
             if let Some(v) = value {
                 positive(name, v)?;
             }
+        }
+        self.check_consistent()
+    }
+
+    /// Checks the keys that `fits-format.md` ties to others: a standard error is `null` for a
+    /// parameter held or absent and for a fit with warnings, `log_floor` is `null` for losses
+    /// other than `log`, and `multiple_term` is `null` for `orders` `single`.
+    fn check_consistent(&self) -> Result<(), String> {
+        let held = [
+            (
+                "gamma_stderr",
+                self.gamma_stderr,
+                !self.model.gamma.is_free(),
+                "gamma is held or absent",
+            ),
+            (
+                "scale_stderr",
+                self.scale_stderr,
+                self.scale_fixed,
+                "scale_fixed is true",
+            ),
+            (
+                "eta_stderr",
+                self.eta_stderr,
+                self.eta_fixed,
+                "eta_fixed is true",
+            ),
+            (
+                "alpha_stderr",
+                self.alpha_stderr,
+                self.flagged(),
+                "the fit has warnings",
+            ),
+            (
+                "gamma_stderr",
+                self.gamma_stderr,
+                self.flagged(),
+                "the fit has warnings",
+            ),
+            (
+                "scale_stderr",
+                self.scale_stderr,
+                self.flagged(),
+                "the fit has warnings",
+            ),
+            (
+                "eta_stderr",
+                self.eta_stderr,
+                self.flagged(),
+                "the fit has warnings",
+            ),
+        ];
+        for (name, value, undefined, why) in held {
+            if let (Some(v), true) = (value, undefined) {
+                return Err(format!("{name} must be null when {why}, got {v}"));
+            }
+        }
+        if let (Some(floor), false) = (self.log_floor, self.loss == Loss::Log) {
+            return Err(format!(
+                "log_floor must be null for a loss other than log, got {floor}"
+            ));
+        }
+        if self.model.orders == ScatteringOrders::Single && self.multiple_term.is_some() {
+            return Err("multiple_term must be null for orders single".to_owned());
         }
         Ok(())
     }
@@ -389,6 +455,50 @@ mod tests {
             ("alpha_stderr", "null"),
         ] {
             FitsFile::from_json("f.json", &with(key, value)).unwrap();
+        }
+    }
+
+    /// Keys that contradict the others are refused, naming the key: a standard error of a
+    /// parameter held or absent, or of a fit with warnings; a log floor for another loss; a
+    /// multiple term for single scattering.
+    #[test]
+    fn keys_that_contradict_each_other_are_refused() {
+        let edit = |edits: &[(&str, &str)]| {
+            let mut v: serde_json::Value = serde_json::from_str(&with("eta", "1.51")).unwrap();
+            for (key, value) in edits {
+                v["fits"][0][*key] = serde_json::from_str(value).unwrap();
+            }
+            FitsFile::from_json("f.json", &v.to_string()).map_err(|e| e.to_string())
+        };
+        for (edits, key) in [
+            (&[("gamma_fixed", "true")][..], "gamma_stderr"),
+            (&[("scale_fixed", "true")], "scale_stderr"),
+            (&[("eta_stderr", "0.01")], "eta_stderr"),
+            (
+                &[("warnings", r#"[{"kind": "singular-curvature"}]"#)],
+                "alpha_stderr",
+            ),
+            (&[("log_floor", "0.001")], "log_floor"),
+            (&[("multiple_term", r#""exact""#)], "multiple_term"),
+        ] {
+            let e = edit(edits).unwrap_err();
+            assert!(
+                e.contains(key) && e.contains("must be null"),
+                "{edits:?}: {e}"
+            );
+        }
+        for edits in [
+            &[("gamma_fixed", "true"), ("gamma_stderr", "null")][..],
+            &[("eta_fixed", "false"), ("eta_stderr", "0.01")],
+            &[("loss", r#""log""#), ("log_floor", "0.001")],
+            &[
+                ("warnings", r#"[{"kind": "singular-curvature"}]"#),
+                ("alpha_stderr", "null"),
+                ("gamma_stderr", "null"),
+                ("scale_stderr", "null"),
+            ],
+        ] {
+            edit(edits).unwrap();
         }
     }
 
