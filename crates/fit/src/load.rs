@@ -7,6 +7,7 @@ use std::collections::HashMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use stfit_core::error::show;
 use thiserror::Error;
 
 use crate::conventions::{
@@ -117,14 +118,14 @@ pub enum LoadErrorKind {
     #[error("'{}' is not a finite number", crate::data::short(.0))]
     NonFinite(String),
     /// A value, `sqrt(L)` or weight field is negative.
-    #[error("{0} is negative; must be >= 0")]
+    #[error("{} is negative; must be >= 0", show(*.0))]
     Negative(f64),
     /// A finite value whose derived quantity is not: `L` of a `sqrt_L`, or the BSDF of a
     /// pab-opto DSF.
     #[error("{value:e} is too large: {derived} overflows to infinity")]
     Overflow { value: f64, derived: &'static str },
     /// An angle outside its range.
-    #[error("{value} is out of range; must be in {range}")]
+    #[error("{} is out of range; must be in {range}", show(*.value))]
     AngleOutOfRange { value: f64, range: &'static str },
     /// A row with fewer fields than the header.
     #[error("missing: the row has {found} fields, the header {expected}")]
@@ -1373,6 +1374,11 @@ mod tests {
             "t.csv:2: column 'theta_o_deg': 90 is out of range; must be in [0, 180] with 90 \
              excluded"
         );
+        // Tiny and huge values are written short, not as 300 digits.
+        let e = load(&format!("{head}-1e-300,0,10,0,1\n")).unwrap_err();
+        assert!(e.to_string().contains("-1e-300 is out of range"), "{e}");
+        let e = load(&format!("{head}0,0,10,0,-1e-300\n")).unwrap_err();
+        assert!(e.to_string().contains("-1e-300 is negative"), "{e}");
     }
 
     /// Files and folders read together: samples merged by name in order of first appearance,
