@@ -526,7 +526,7 @@ impl QuoteProblem {
             None => format!("header field {}", self.field + 1),
             Some(h) => h.get(self.field).map_or_else(
                 || format!("extra field {}", self.field + 1),
-                |name| String::from_utf8_lossy(name).trim().to_owned(),
+                |name| trim_field(&String::from_utf8_lossy(name)).to_owned(),
             ),
         };
         LoadError::new(source, Some(self.line), Some(&column), self.kind)
@@ -545,7 +545,7 @@ pub(crate) fn text_fields<'r>(
         .iter()
         .enumerate()
         .map(|(i, field)| {
-            std::str::from_utf8(field).map(str::trim).map_err(|_| {
+            std::str::from_utf8(field).map(trim_field).map_err(|_| {
                 LoadError::new(source, Some(line), Some(&column(i)), LoadErrorKind::NotUtf8)
             })
         })
@@ -569,7 +569,19 @@ pub fn read_header(path: &Path) -> Result<Option<(u64, Vec<String>)>, LoadError>
 
 /// A record that is one whitespace-only field: an empty or blank line.
 fn is_blank(record: &csv::ByteRecord) -> bool {
-    record.len() == 1 && record[0].iter().all(u8::is_ascii_whitespace)
+    record.len() == 1
+        && record[0]
+            .iter()
+            .all(|&b| FIELD_SPACE.contains(&char::from(b)))
+}
+
+/// What is removed around every field and header name (`data-format.md`): spaces and tabs,
+/// and the `\r` of a `\r\n` line end. Other whitespace (a no-break space) is part of the field.
+const FIELD_SPACE: [char; 3] = [' ', '\t', '\r'];
+
+/// `field` without the [`FIELD_SPACE`] around it.
+fn trim_field(field: &str) -> &str {
+    field.trim_matches(FIELD_SPACE)
 }
 
 /// Converts the positions of records, met in file order, to 1-based line numbers.
@@ -1374,6 +1386,11 @@ mod tests {
             "t.csv:2: column 'theta_o_deg': 90 is out of range; must be in [0, 180] with 90 \
              excluded"
         );
+        // Only spaces and tabs are removed around fields: a no-break space is part of it.
+        let e = load(&format!("{head}0,0,10,0,1\u{a0}\n")).unwrap_err();
+        assert!(e.to_string().contains("is not a number"), "{e}");
+        let d = load(&format!("{head}\t0 , 0,\t10\t,0 ,  1 \r\n")).unwrap();
+        assert_eq!(d.samples[0].points.len(), 1);
         // Tiny and huge values are written short, not as 300 digits.
         let e = load(&format!("{head}-1e-300,0,10,0,1\n")).unwrap_err();
         assert!(e.to_string().contains("-1e-300 is out of range"), "{e}");
