@@ -357,6 +357,23 @@ fn radiance_flags_where_they_do_not_apply_are_refused_and_out_folders_are_made()
             .to_string();
         assert!(err.contains(&format!("{flag} applies")), "{err}");
     }
+    // With no fit selected, the selection is what is wrong (exit 1), not the walk flags.
+    let err = cli()
+        .run(&[
+            "export",
+            &fits,
+            "--to",
+            "radiance",
+            "--layer",
+            "interface",
+            "--sample",
+            "no such sample",
+            "--walks",
+            "64",
+        ])
+        .fails_with(1)
+        .to_string();
+    assert!(err.contains("no fit matches"), "{err}");
     let all = dir.join("all-orders.json");
     let data = project_root().join("fits/example.csv");
     cli()

@@ -127,12 +127,13 @@ pub fn export_fits(
 /// Whether the walks of [`RadianceOptions`] (walks per patch and their seed) enter the Radiance
 /// export of the fits `selection` picks: always for the pane; for the interface only through
 /// the orders >= 2 of an all-orders fit (a single-scattering interface is integrated by
-/// quadrature). Front ends refuse walk options that would be ignored.
+/// quadrature). Front ends refuse walk options that would be ignored. True when nothing is
+/// selected: there is nothing to ignore them, and the export itself says that no fit matches.
 pub fn radiance_walks_apply(fits: &[FitResult], selection: &Selection, layer: LayerKind) -> bool {
+    let mut selected = fits.iter().filter(|f| selection.matches(f)).peekable();
     layer == LayerKind::Pane
-        || fits
-            .iter()
-            .any(|f| selection.matches(f) && f.model.orders == ScatteringOrders::All)
+        || selected.peek().is_none()
+        || selected.any(|f| f.model.orders == ScatteringOrders::All)
 }
 
 /// Refuses two fits with the same identifier ([`BatchError::SameName`]).

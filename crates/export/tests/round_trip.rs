@@ -63,6 +63,7 @@ fn check(data: &Dataset) {
             map: AlphaMap::Alpha,
             name: "alpha",
             max_param: 10.0,
+            min_alpha: 0.0,
         };
         let t = fit(&ggx, &model, &reference).unwrap();
         let alpha = t.params[0].value;

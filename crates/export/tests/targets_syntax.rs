@@ -265,6 +265,17 @@ fn appleseed_writes_only_glass_bsdf_inputs_and_fits_student_t_with_ggx() {
     assert_eq!(t.value("highlight_falloff"), None);
     let fitted = t.value("roughness").unwrap();
     assert!(fitted > 0.0 && fitted <= 1.0, "{fitted}");
+    // Below appleseed's alpha floor (0.001) it renders alpha 0.001: the reported error is that
+    // of what renders, not 0, and the file says so.
+    let sharp = model(ModelKind::Ggx, 3e-4, Gamma::NotApplicable);
+    let e = targets::export(Target::Appleseed, &sharp, "g").unwrap();
+    let t = e.translation.unwrap();
+    assert!(t.rmse > 1e-3, "{t:?}");
+    assert!(
+        e.warnings.iter().any(|w| w.contains("floor")),
+        "{:?}",
+        e.warnings
+    );
 }
 
 /// A `.vrscene` block: plugin type, name and `key=value` parameters.

@@ -473,11 +473,11 @@ pub(crate) fn read_records(
 }
 
 /// Records of a CSV text, each with its 1-based line.
-type Records = Vec<(u64, csv::ByteRecord)>;
+pub(crate) type Records = Vec<(u64, csv::ByteRecord)>;
 
 /// The records of [`read_records`] before the first row whose quoting RFC 4180 does not
 /// allow, and the error for that row, so that problems of earlier rows can be reported first.
-fn records_until_quote_problem(
+pub(crate) fn records_until_quote_problem(
     source: &Path,
     bytes: &[u8],
 ) -> Result<(Records, Option<LoadError>), LoadError> {

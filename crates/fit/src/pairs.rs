@@ -9,7 +9,7 @@ use std::path::Path;
 
 use stfit_core::Vec3;
 
-use crate::load::{LoadError, LoadErrorKind, read_records, text_fields};
+use crate::load::{LoadError, LoadErrorKind, records_until_quote_problem, text_fields};
 
 /// The direction columns, in the order `(wi, wo)`.
 pub const PAIR_COLUMNS: [&str; 6] = ["wi_x", "wi_y", "wi_z", "wo_x", "wo_y", "wo_z"];
@@ -47,9 +47,11 @@ pub fn read_pairs(source: &Path, bytes: &[u8]) -> Result<PairTable, LoadError> {
         column: column.map(str::to_owned),
         kind,
     };
-    let mut records = read_records(source, bytes)?.into_iter();
+    // A quoting problem is reported after the problems of the rows before it, as data files do.
+    let (records, pending) = records_until_quote_problem(source, bytes)?;
+    let mut records = records.into_iter();
     let Some((header_line, header_record)) = records.next() else {
-        return Err(err(Some(1), None, LoadErrorKind::Empty));
+        return Err(pending.unwrap_or_else(|| err(Some(1), None, LoadErrorKind::Empty)));
     };
     let header: Vec<String> = text_fields(source, header_line, &header_record, |i| {
         format!("header field {}", i + 1)
@@ -141,6 +143,9 @@ pub fn read_pairs(source: &Path, bytes: &[u8]) -> Result<PairTable, LoadError> {
         let wo = unit(Vec3::new(v[3], v[4], v[5]), "wo_x, wo_y, wo_z")?;
         pairs.push((wi, wo));
         rows.push(fields.into_iter().map(str::to_owned).collect());
+    }
+    if let Some(problem) = pending {
+        return Err(problem);
     }
     Ok(PairTable {
         header,
@@ -247,6 +252,16 @@ mod tests {
             (e.line, e.column.as_deref()),
             (Some(2), Some("wo_x, wo_y, wo_z"))
         );
+        // An earlier row's problem comes before a later row's quoting, as in data files.
+        let e = read("id,wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\nb,0,0,x,0,0,-1\n\"c\"d,0,0,1,0,0,-1\n")
+            .unwrap_err();
+        assert_eq!(
+            (e.line, e.column.as_deref()),
+            (Some(2), Some("wi_z")),
+            "{e}"
+        );
+        let e = read("id,wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n\"c\"d,0,0,1,0,0,-1\n").unwrap_err();
+        assert_eq!(e.line, Some(2), "{e}");
         let e = read("wi_x,wi_y,wi_z,wo_x,wo_y\n").unwrap_err();
         assert_eq!(e.column.as_deref(), Some("wo_z"));
         assert!(read("").is_err());

@@ -28,6 +28,18 @@ pub const PILOT_MAX_WALKS: u64 = 1 << 16;
 /// Incident directions whose pairs a pilot of [`WalkCost::measure_pairs`] runs.
 pub const PILOT_INCIDENCES: usize = 8;
 
+/// A pilot runs at most this fraction of its run's work (and at least one walk), so that a
+/// short run is not paid twice.
+pub const PILOT_SHARE: f64 = 1.0 / 16.0;
+
+/// The most walks a pilot batch may have: [`PILOT_SHARE`] of a run of `walks` walks over
+/// `groups` incident directions when the pilot walks from `picked` of them, at least 1 and at
+/// most [`PILOT_MAX_WALKS`].
+fn pilot_cap(walks: u64, groups: usize, picked: usize) -> u64 {
+    let share = PILOT_SHARE * walks as f64 * groups as f64 / picked.max(1) as f64;
+    (share as u64).clamp(1, PILOT_MAX_WALKS)
+}
+
 /// Estimated wall time, in seconds, above which a run is long enough to announce.
 pub const LONG_RUN_SECONDS: f64 = 10.0;
 
@@ -49,10 +61,10 @@ impl WalkCost {
     /// The cost of [`Estimator::albedo`] from `wi` for a run of `walks` walks: runs batches of
     /// [`PILOT_WALKS`], 4 times as many, ... walks from `wi` on one thread (random numbers of
     /// their own, from `seed`; the estimates of the run itself are unchanged) until a batch
-    /// lasts [`PILOT_SECONDS`] or reaches [`PILOT_MAX_WALKS`] walks or the run's `walks`, and
-    /// reads the cost off the last batch.
+    /// lasts [`PILOT_SECONDS`] or reaches [`PILOT_SHARE`] of the run's walks (at least one)
+    /// or [`PILOT_MAX_WALKS`], and reads the cost off the last batch.
     pub fn measure(estimator: &dyn Estimator, wi: Vec3, walks: u64, seed: u64) -> Self {
-        let (pilot, seconds_per_walk) = time_batches(walks.min(PILOT_MAX_WALKS), |n, batch| {
+        let (pilot, seconds_per_walk) = time_batches(pilot_cap(walks, 1, 1), |n, batch| {
             estimator.albedo(wi, n, seed.wrapping_add(batch))
         });
         Self {
@@ -67,10 +79,11 @@ impl WalkCost {
     /// incident direction, per walk from each incident direction: the next-event estimates
     /// toward every `wo` and the walks from each `wo` (bidirectional estimators) included.
     /// The pilot runs `eval_pairs` itself, in batches as [`WalkCost::measure`] does (at most
-    /// `walks` walks), on the pairs of at most [`PILOT_INCIDENCES`] incident directions
-    /// spread evenly through their order, and scales its time by the number of incident
-    /// directions; the path length and the flux at the safety cap are those of
-    /// [`PILOT_WALKS`] albedo walks from the first incident direction.
+    /// [`PILOT_SHARE`] of the run's work), on the pairs of at most [`PILOT_INCIDENCES`]
+    /// incident directions spread evenly through their order, and scales its time by the
+    /// number of incident directions; the path length and the flux at the safety cap are
+    /// those of [`PILOT_WALKS`] albedo walks (at most that share of `walks`) from the first
+    /// incident direction.
     pub fn measure_pairs(
         estimator: &dyn Estimator,
         pairs: &[(Vec3, Vec3)],
@@ -92,10 +105,12 @@ impl WalkCost {
             .iter()
             .flat_map(|(_, members)| members.iter().map(|&k| pairs[k]))
             .collect();
-        let (_, seconds_per_walk) = time_batches(walks.min(PILOT_MAX_WALKS), |n, batch| {
+        let cap = pilot_cap(walks, groups.len(), picked.len());
+        let (_, seconds_per_walk) = time_batches(cap, |n, batch| {
             super::eval_pairs(estimator, &subset, n, seed.wrapping_add(batch))
         });
-        let path = single_threaded(|| estimator.albedo(first, PILOT_WALKS, seed));
+        let path_walks = PILOT_WALKS.min(pilot_cap(walks, 1, 1));
+        let path = single_threaded(|| estimator.albedo(first, path_walks, seed));
         Self {
             mean_bounces: path.mean_bounces,
             seconds_per_walk: seconds_per_walk * groups.len() as f64 / picked.len() as f64,
@@ -211,12 +226,22 @@ mod tests {
             })
             .collect();
         let cost = WalkCost::measure_pairs(&glass, &pairs, 1000, 5);
-        let first = glass.albedo(pairs[0].0, PILOT_WALKS, 5);
+        let first = glass.albedo(pairs[0].0, PILOT_WALKS.min(1000 / 16), 5);
         assert_eq!(cost.mean_bounces, first.mean_bounces);
         assert_eq!(cost.truncated, first.truncated);
         assert!(cost.seconds_per_walk > 0.0, "{cost:?}");
         let none = WalkCost::measure_pairs(&glass, &[], 1000, 5);
         assert_eq!(none.seconds(1000), 0.0);
+    }
+
+    /// A pilot walks at most a sixteenth of its run (at least one walk), whatever the share of
+    /// the incident directions it walks from.
+    #[test]
+    fn a_pilot_never_repeats_its_run() {
+        assert_eq!(pilot_cap(64, 8, 8), 4);
+        assert_eq!(pilot_cap(64, 200, 8), 100);
+        assert_eq!(pilot_cap(10, 1, 1), 1);
+        assert_eq!(pilot_cap(u64::MAX, 1, 1), PILOT_MAX_WALKS);
     }
 
     #[test]

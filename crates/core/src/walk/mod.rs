@@ -68,8 +68,8 @@ mod microsurface;
 mod null;
 
 pub use cost::{
-    LONG_RUN_SECONDS, PILOT_INCIDENCES, PILOT_MAX_WALKS, PILOT_SECONDS, PILOT_WALKS, WalkCost,
-    describe_seconds,
+    LONG_RUN_SECONDS, PILOT_INCIDENCES, PILOT_MAX_WALKS, PILOT_SECONDS, PILOT_SHARE, PILOT_WALKS,
+    WalkCost, describe_seconds,
 };
 pub use engine::{WalkEnd, WalkSample};
 pub use estimate::{

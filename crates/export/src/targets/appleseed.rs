@@ -45,6 +45,7 @@ pub fn family(eta: f64) -> Microfacet {
         map: AlphaMap::RoughnessSquared,
         name: "roughness",
         max_param: 1.0,
+        min_alpha: ALPHA_MIN,
     }
 }
 

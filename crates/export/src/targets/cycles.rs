@@ -42,6 +42,7 @@ fn family(ndf: Family1, eta: f64) -> Microfacet {
         map: AlphaMap::RoughnessSquared,
         name: "Roughness",
         max_param: 1.0,
+        min_alpha: 0.0,
     }
 }
 

@@ -25,6 +25,7 @@ fn family(ndf: Family1, eta: f64) -> Microfacet {
         map: super::AlphaMap::Alpha,
         name: "alpha",
         max_param: 10.0,
+        min_alpha: 0.0,
     }
 }
 

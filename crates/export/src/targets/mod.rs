@@ -190,6 +190,10 @@ pub struct Microfacet {
     pub name: &'static str,
     /// Largest parameter value the renderer accepts.
     pub max_param: f64,
+    /// Smallest alpha the renderer renders (it raises smaller ones to this): the family's BSDF
+    /// is built at `max(min_alpha, alpha)`, so a translation's error is that of what renders.
+    /// 0 where the renderer takes every alpha as given.
+    pub min_alpha: f64,
 }
 
 impl Family for Microfacet {
@@ -200,7 +204,7 @@ impl Family for Microfacet {
     }
 
     fn build(&self, p: &[f64]) -> Result<Self::Bsdf, ExportError> {
-        let alpha = self.map.alpha(p[0]);
+        let alpha = self.map.alpha(p[0]).max(self.min_alpha);
         let ndf: AnyNdf = match self.ndf {
             Family1::Ggx => Ggx::new(alpha)?.into(),
             Family1::Beckmann => Beckmann::new(alpha)?.into(),

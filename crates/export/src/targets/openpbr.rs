@@ -106,6 +106,7 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         map: AlphaMap::RoughnessSquared,
         name: "specular_roughness",
         max_param: 1.0,
+        min_alpha: 0.0,
     };
     let one = translate_microfacet(&single, model, reference, &mut warnings)?;
     let spec = Haze {

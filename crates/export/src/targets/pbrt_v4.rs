@@ -26,6 +26,7 @@ pub fn family(eta: f64) -> Microfacet {
         map: AlphaMap::SqrtRoughness,
         name: "roughness",
         max_param: 100.0,
+        min_alpha: 0.0,
     }
 }
 
