@@ -196,6 +196,18 @@ pub struct Microfacet {
     pub min_alpha: f64,
 }
 
+/// Smallest alpha a translation into a [`Microfacet`] family searches: 10 times below the
+/// fits' own floor ([`stfit_fit::fit::ALPHA_MIN`]).
+pub const TRANSLATE_ALPHA_MIN: f64 = 1e-4;
+
+impl Microfacet {
+    /// The renderer parameter of [`TRANSLATE_ALPHA_MIN`]: the search's lower bound, in alpha
+    /// whatever the renderer's mapping (pbrt-v4's `roughness = alpha^2` reaches 1e-8).
+    fn min_param(&self) -> f64 {
+        self.map.param(TRANSLATE_ALPHA_MIN).min(self.max_param)
+    }
+}
+
 impl Family for Microfacet {
     type Bsdf = TargetDielectric<CoreMicrofacet>;
 
@@ -219,11 +231,11 @@ impl Family for Microfacet {
     }
 
     fn params_of(&self, x: &[f64]) -> Vec<f64> {
-        vec![from_log_coord(x[0], 1e-4, self.max_param)]
+        vec![from_log_coord(x[0], self.min_param(), self.max_param)]
     }
 
     fn search_of(&self, p: &[f64]) -> Vec<f64> {
-        vec![log_coord(p[0], 1e-4, self.max_param)]
+        vec![log_coord(p[0], self.min_param(), self.max_param)]
     }
 
     fn starts(&self) -> Vec<Vec<f64>> {
