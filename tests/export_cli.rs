@@ -446,3 +446,45 @@ fn long_sample_names_give_short_file_names() {
         assert!(name < 150, "{path}");
     }
 }
+
+/// The shipped example exports of one sample (`fits/export/frosted_*`, every target but
+/// Radiance, whose walks make it slow; one sample keeps the test short) are what the current
+/// code writes from the shipped fits, byte for byte: a change of an export is regenerated with
+/// the command in `fits/export/README.md`.
+#[test]
+fn shipped_example_exports_are_current() {
+    let dir = CaseDir::new("export-examples");
+    let out = format!("{}/", dir.path().display());
+    let fits = example_fits();
+    let mut compared = 0;
+    for target in [
+        "mitsuba3",
+        "pbrt-v4",
+        "cycles",
+        "appleseed",
+        "openpbr",
+        "vray",
+    ] {
+        let listing = cli()
+            .run(&[
+                "export", &fits, "--to", target, "--sample", "frosted", "--out", &out,
+            ])
+            .ok()
+            .to_string();
+        for path in listing.lines() {
+            let path = std::path::Path::new(path);
+            let name = path.file_name().unwrap();
+            let shipped = project_root().join("fits/export").join(name);
+            let shipped =
+                std::fs::read(&shipped).unwrap_or_else(|e| panic!("{}: {e}", shipped.display()));
+            assert!(
+                std::fs::read(path).unwrap() == shipped,
+                "fits/export/{} differs from what `stfit export` writes now; regenerate it \
+                 (fits/export/README.md)",
+                name.to_string_lossy()
+            );
+            compared += 1;
+        }
+    }
+    assert_eq!(compared, 28);
+}
