@@ -145,6 +145,14 @@ fn report_fits_first_and_from_stored_fits_gives_the_same_files() {
         (1800, 100 + 3 * 400)
     );
     assert_eq!(png_size(&fitted.join("ndf.png")), (3 * 640, 100 + 560));
+    // The shipped example report is what the code draws now (fits/README.md's command).
+    let shipped = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fits/report");
+    for name in &expected {
+        assert!(
+            std::fs::read(fitted.join(name)).unwrap() == std::fs::read(shipped.join(name)).unwrap(),
+            "fits/report/{name} differs from what `stfit report` draws now; regenerate it"
+        );
+    }
 }
 
 #[test]
