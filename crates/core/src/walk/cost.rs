@@ -64,8 +64,10 @@ impl WalkCost {
     /// lasts [`PILOT_SECONDS`] or reaches [`PILOT_SHARE`] of the run's walks (at least one)
     /// or [`PILOT_MAX_WALKS`], and reads the cost off the last batch.
     pub fn measure(estimator: &dyn Estimator, wi: Vec3, walks: u64, seed: u64) -> Self {
-        let (pilot, seconds_per_walk) = time_batches(pilot_cap(walks, 1, 1), |n, batch| {
-            estimator.albedo(wi, n, seed.wrapping_add(batch))
+        let (pilot, seconds_per_walk) = single_threaded(|| {
+            time_batches(pilot_cap(walks, 1, 1), |n, batch| {
+                estimator.albedo(wi, n, seed.wrapping_add(batch))
+            })
         });
         Self {
             mean_bounces: pilot.mean_bounces,
@@ -106,11 +108,13 @@ impl WalkCost {
             .flat_map(|(_, members)| members.iter().map(|&k| pairs[k]))
             .collect();
         let cap = pilot_cap(walks, groups.len(), picked.len());
-        let (_, seconds_per_walk) = time_batches(cap, |n, batch| {
-            super::eval_pairs(estimator, &subset, n, seed.wrapping_add(batch))
-        });
         let path_walks = PILOT_WALKS.min(pilot_cap(walks, 1, 1));
-        let path = single_threaded(|| estimator.albedo(first, path_walks, seed));
+        let ((_, seconds_per_walk), path) = single_threaded(|| {
+            let timed = time_batches(cap, |n, batch| {
+                super::eval_pairs(estimator, &subset, n, seed.wrapping_add(batch))
+            });
+            (timed, estimator.albedo(first, path_walks, seed))
+        });
         Self {
             mean_bounces: path.mean_bounces,
             seconds_per_walk: seconds_per_walk * groups.len() as f64 / picked.len() as f64,
@@ -125,25 +129,23 @@ impl WalkCost {
     }
 }
 
-/// Runs `run(walks, batch)` for `walks` = [`PILOT_WALKS`], 4 times as many, ... on one
-/// thread until a batch lasts [`PILOT_SECONDS`] or reaches `max_walks` walks, returning the
-/// last batch's result and its wall time per walk. Every batch is at most `max_walks`, and
-/// the batches before the last take less than [`PILOT_SECONDS`] each.
-fn time_batches<T: Send>(max_walks: u64, run: impl Fn(u64, u64) -> T + Send + Sync) -> (T, f64) {
-    single_threaded(|| {
-        let mut walks = PILOT_WALKS.min(max_walks).max(1);
-        let mut batch = 0;
-        loop {
-            let start = Instant::now();
-            let result = run(walks, batch);
-            let seconds = start.elapsed().as_secs_f64();
-            if seconds >= PILOT_SECONDS || walks >= max_walks {
-                return (result, seconds / walks as f64);
-            }
-            walks = (walks * 4).min(max_walks);
-            batch += 1;
+/// Runs `run(walks, batch)` for `walks` = [`PILOT_WALKS`], 4 times as many, ... until a batch
+/// lasts [`PILOT_SECONDS`] or reaches `max_walks` walks, returning the last batch's result and
+/// its wall time per walk. Every batch is at most `max_walks`, and the batches before the last
+/// take less than [`PILOT_SECONDS`] each. Callers run it on one thread ([`single_threaded`]).
+fn time_batches<T>(max_walks: u64, run: impl Fn(u64, u64) -> T) -> (T, f64) {
+    let mut walks = PILOT_WALKS.min(max_walks).max(1);
+    let mut batch = 0;
+    loop {
+        let start = Instant::now();
+        let result = run(walks, batch);
+        let seconds = start.elapsed().as_secs_f64();
+        if seconds >= PILOT_SECONDS || walks >= max_walks {
+            return (result, seconds / walks as f64);
         }
-    })
+        walks = (walks * 4).min(max_walks);
+        batch += 1;
+    }
 }
 
 /// Runs `f` on a pool of one thread: a pilot's time is the time of its walks, not of a share.
