@@ -335,15 +335,20 @@ fn radiance_flags_where_they_do_not_apply_are_refused_and_out_folders_are_made()
     // The walks of a Radiance interface are those of an all-orders fit's orders >= 2: refused
     // for single-scattering fits, accepted for an all-orders one.
     let dir = CaseDir::new("export-new-folder");
+    let interface = |fits: &str, extra: &[&str]| {
+        cli().run(
+            &[
+                &["export", fits, "--to", "radiance", "--layer", "interface"][..],
+                extra,
+            ]
+            .concat(),
+        )
+    };
+    let single = dir.join("single.xml");
     for flag in ["--walks", "--seed"] {
-        let err = cli()
-            .run(&[
-                "export",
-                &fits,
-                "--to",
-                "radiance",
-                "--layer",
-                "interface",
+        let err = interface(
+            &fits,
+            &[
                 "--sample",
                 "frosted",
                 "--model",
@@ -351,26 +356,15 @@ fn radiance_flags_where_they_do_not_apply_are_refused_and_out_folders_are_made()
                 flag,
                 "64",
                 "--out",
-                dir.join("single.xml").to_str().unwrap(),
-            ])
-            .fails_with(2)
-            .to_string();
+                single.to_str().unwrap(),
+            ],
+        )
+        .fails_with(2)
+        .to_string();
         assert!(err.contains(&format!("{flag} applies")), "{err}");
     }
     // With no fit selected, the selection is what is wrong (exit 1), not the walk flags.
-    let err = cli()
-        .run(&[
-            "export",
-            &fits,
-            "--to",
-            "radiance",
-            "--layer",
-            "interface",
-            "--sample",
-            "no such sample",
-            "--walks",
-            "64",
-        ])
+    let err = interface(&fits, &["--sample", "no such sample", "--walks", "64"])
         .fails_with(1)
         .to_string();
     assert!(err.contains("no fit matches"), "{err}");
@@ -391,22 +385,19 @@ fn radiance_flags_where_they_do_not_apply_are_refused_and_out_folders_are_made()
             all.to_str().unwrap(),
         ])
         .ok();
-    cli()
-        .run(&[
-            "export",
-            all.to_str().unwrap(),
-            "--to",
-            "radiance",
-            "--layer",
-            "interface",
+    let all_xml = dir.join("all.xml");
+    interface(
+        all.to_str().unwrap(),
+        &[
             "--walks",
             "8",
             "--seed",
             "3",
             "--out",
-            dir.join("all.xml").to_str().unwrap(),
-        ])
-        .ok();
+            all_xml.to_str().unwrap(),
+        ],
+    )
+    .ok();
     let folder = format!("{}/made/", dir.path().display());
     let run = cli().run(&[
         "export", &fits, "--to", "mitsuba3", "--sample", "frosted", "--out", &folder,
