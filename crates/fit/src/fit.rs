@@ -483,8 +483,10 @@ impl Evaluator<'_, '_> {
     /// neighbours, best first, at most [`MAX_STARTS`].
     fn starts(&self) -> Vec<Vec<f64>> {
         let (points, extent) = self.shape.grid();
+        // Each cost is independent: evaluated in parallel, the grid lets a fit of many grid
+        // points (free gamma) share the cores with the other fits.
         let costs: Vec<f64> = points
-            .iter()
+            .par_iter()
             .map(|&p| self.cost(&self.shape.coords(p)))
             .collect();
         // Index of the grid point at multi-index `ix` (axis 0 fastest).
@@ -574,25 +576,34 @@ pub fn fit_dataset(
         .map(|sample| (sample, Prepared::new(sample, opts)))
         .collect();
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let tasks: Vec<_> = preps
+    let mut tasks: Vec<_> = preps
         .iter()
         .flat_map(|prep| specs.iter().map(move |spec| (prep, spec)))
+        .enumerate()
         .collect();
-    tasks
-        .into_par_iter()
-        .map(|((sample, prep), spec)| {
-            let prep = prep.as_ref().map_err(|e| fail(sample, first, e.clone()))?;
-            let mut fit = Shape::new(*spec, opts)
-                .and_then(|shape| fit_prepared(prep, shape, opts))
-                .map_err(|e| fail(sample, spec, e))?;
-            fit.data = Some(data.source.display().to_string());
-            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            progress(n, total);
-            Ok(fit)
-        })
-        .collect::<Vec<_>>()
+    // The fits with free gamma (the largest starting grids and simplices) are handed out
+    // first, each to the next free thread, so that a long fit does not start
+    // last and leave the other cores idle at the end.
+    tasks.sort_by_key(|(k, (_, spec))| (!spec.gamma().is_free(), *k));
+    let mut fits: Vec<(usize, Result<FitResult, DatasetFitError>)> = tasks
         .into_iter()
-        .collect()
+        .par_bridge()
+        .map(|(k, ((sample, prep), spec))| {
+            let fit = (|| {
+                let prep = prep.as_ref().map_err(|e| fail(sample, first, e.clone()))?;
+                let mut fit = Shape::new(*spec, opts)
+                    .and_then(|shape| fit_prepared(prep, shape, opts))
+                    .map_err(|e| fail(sample, spec, e))?;
+                fit.data = Some(data.source.display().to_string());
+                let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                progress(n, total);
+                Ok(fit)
+            })();
+            (k, fit)
+        })
+        .collect();
+    fits.sort_by_key(|(k, _)| *k);
+    fits.into_iter().map(|(_, fit)| fit).collect()
 }
 
 fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitResult, FitError> {
