@@ -122,41 +122,61 @@ impl Projected {
 
     /// The best scale for the unit-scale model `m` (or the fixed one) and the reduced cost.
     pub fn project(&self, m: &[f64]) -> Projection {
-        let scale = match self.fixed_scale {
-            Some(s) => s,
-            None => self.best_scale(m),
-        };
-        Projection {
-            scale,
-            cost: self.rss(m, scale) / self.norm,
+        match self.loss {
+            Loss::Sqrt => {
+                // T(scale m) = c sqrt(m) with c = sqrt(scale): one square root per point.
+                let q: Vec<f64> = m.iter().map(|&m| signed_sqrt(m)).collect();
+                self.project_amplitude(&q, |s| s.sqrt(), |c| c * c)
+            }
+            Loss::Linear => self.project_amplitude(m, |s| s, |c| c),
+            Loss::Log => {
+                let scale = self.fixed_scale.unwrap_or_else(|| self.log_scale(m));
+                Projection {
+                    scale,
+                    cost: self.rss(m, scale) / self.norm,
+                }
+            }
         }
     }
 
-    /// The scale minimising the loss of `m`.
-    fn best_scale(&self, m: &[f64]) -> f64 {
-        match self.loss {
-            // Linear least squares in the amplitude c: sqrt(scale) or scale.
-            Loss::Sqrt | Loss::Linear => {
+    /// The projection of a loss whose transformed model is linear in an amplitude `c`,
+    /// `T(scale m_j) = c q_j` (`sqrt` and `linear`): the fixed scale's amplitude
+    /// (`amplitude(scale)`), or the linear least-squares one, clamped at 0, whose scale is
+    /// `scale_of(c)`.
+    fn project_amplitude(
+        &self,
+        q: &[f64],
+        amplitude: impl Fn(f64) -> f64,
+        scale_of: impl Fn(f64) -> f64,
+    ) -> Projection {
+        let c = match self.fixed_scale {
+            Some(s) => amplitude(s),
+            None => {
                 let (mut syq, mut sqq) = (0.0, 0.0);
-                for ((y, &m), w) in self.y.iter().zip(m).zip(&self.w) {
-                    let q = match self.loss {
-                        Loss::Sqrt => signed_sqrt(m),
-                        _ => m,
-                    };
+                for ((y, q), w) in self.y.iter().zip(q).zip(&self.w) {
                     syq += w * y * q;
                     sqq += w * q * q;
                 }
-                let c = if sqq > 0.0 && syq > 0.0 {
+                if sqq > 0.0 && syq > 0.0 {
                     syq / sqq
                 } else {
                     0.0
-                };
-                match self.loss {
-                    Loss::Sqrt => c * c,
-                    _ => c,
                 }
             }
-            Loss::Log => self.log_scale(m),
+        };
+        let rss: f64 = self
+            .y
+            .iter()
+            .zip(q)
+            .zip(&self.w)
+            .map(|((y, q), w)| {
+                let r = y - c * q;
+                w * r * r
+            })
+            .sum();
+        Projection {
+            scale: self.fixed_scale.unwrap_or_else(|| scale_of(c)),
+            cost: rss / self.norm,
         }
     }
 
