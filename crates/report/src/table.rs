@@ -147,11 +147,15 @@ pub fn fits_table(fits: &[FitResult]) -> String {
             if i > 0 {
                 line.push_str("  ");
             }
-            // The count column is right-aligned, the others left-aligned.
+            // The count column is right-aligned, the others left-aligned. Padded by hand:
+            // a `{:w$}` width must fit in a u16, and a sample name may be longer.
+            let pad = " ".repeat(w.saturating_sub(cell.chars().count()));
             if i == count {
-                let _ = write!(line, "{cell:>w$}");
+                line.push_str(&pad);
+                line.push_str(cell);
             } else {
-                let _ = write!(line, "{cell:<w$}");
+                line.push_str(cell);
+                line.push_str(&pad);
             }
         }
         text.push_str(line.trim_end());
@@ -350,5 +354,19 @@ mod tests {
         let text = fits_table(&[fit]);
         assert_eq!(text.lines().count(), 2);
         assert!(text.contains("a\\nb\\tc"));
+    }
+
+    /// A sample name wider than any format width (65,535) is padded, not a panic, and the
+    /// columns after it stay aligned.
+    #[test]
+    fn a_sample_name_of_any_length_is_aligned() {
+        let mut long = result(ModelKind::Ggx, Gamma::NotApplicable);
+        long.sample = "x".repeat(70_000);
+        let text = fits_table(&[long, result(ModelKind::Ggx, Gamma::NotApplicable)]);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 3);
+        let col = |l: &str| l.find("ggx").or_else(|| l.find("model"));
+        assert_eq!(col(lines[0]), Some(70_002));
+        assert!(lines.iter().all(|l| col(l) == col(lines[0])));
     }
 }
