@@ -30,10 +30,18 @@ pub fn theta_in_range(theta_deg: f64) -> bool {
     (0.0..=180.0).contains(&theta_deg) && theta_deg != 90.0
 }
 
-/// The unit direction of polar angle `theta_deg` from +z and azimuth `phi_deg`:
-/// `(sin theta cos phi, sin theta sin phi, cos theta)`.
+/// An azimuth in degrees reduced to (-360, 360), exactly (the remainder of a division of
+/// doubles is exact): any finite azimuth a file holds means the same direction as its
+/// remainder, which then converts to radians without the rounding of a huge angle.
+pub fn reduced_azimuth_deg(phi_deg: f64) -> f64 {
+    phi_deg % 360.0
+}
+
+/// The unit direction of polar angle `theta_deg` from +z and azimuth `phi_deg` (any finite
+/// value, [`reduced_azimuth_deg`]): `(sin theta cos phi, sin theta sin phi, cos theta)`.
 pub fn spherical_from_deg(theta_deg: f64, phi_deg: f64) -> Vec3 {
-    stfit_core::math::spherical_direction(radians(theta_deg), radians(phi_deg))
+    let phi = radians(reduced_azimuth_deg(phi_deg));
+    stfit_core::math::spherical_direction(radians(theta_deg), phi)
 }
 
 /// The spherical angles `((theta_i, phi_i), (theta_o, phi_o))` of an in-plane configuration:
@@ -81,4 +89,21 @@ pub fn pair_from_deg(theta_i_deg: f64, theta_o_deg: f64) -> (Vec3, Vec3) {
 /// `eta^2`).
 pub fn l_per_bsdf(wi: Vec3, eta: f64) -> f64 {
     wi.z.abs() / (eta * eta)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Azimuths that differ by whole turns give the same direction to the last bit, however
+    /// large: 1e17 and 1e20 degrees are 280 degrees plus whole turns.
+    #[test]
+    fn whole_turns_of_azimuth_give_the_same_direction() {
+        let base = spherical_from_deg(150.0, 280.0);
+        for phi in [280.0 + 360.0 * 1e12, 36_000_000_000_000_280.0, 1e17, 1e20] {
+            assert_eq!(spherical_from_deg(150.0, phi), base, "phi {phi}");
+        }
+        let back = spherical_from_deg(150.0, -80.0);
+        assert!((back - base).norm() < 1e-15);
+    }
 }

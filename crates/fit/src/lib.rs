@@ -39,7 +39,7 @@ pub mod result;
 pub mod surrogate;
 pub mod synth;
 
-pub use conventions::DEFAULT_ETA;
+pub use conventions::{DEFAULT_ETA, reduced_azimuth_deg};
 pub use data::{Angles, Dataset, Measured, Measurement, Quantity, Sample, short};
 pub use fit::{DatasetFitError, FitError, fit_all, fit_dataset, fit_sample};
 pub use load::{Column, LoadError, LoadErrorKind, load_columns, load_path, load_paths};

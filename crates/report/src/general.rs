@@ -14,7 +14,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use stfit_core::ndf::AnyNdf;
-use stfit_fit::{FitResult, Measurement, Sample};
+use stfit_fit::{FitResult, Measurement, Sample, reduced_azimuth_deg};
 
 use crate::figures::{LARGE, curve_chart, draw_title, fmt_tick};
 use crate::render::Figure;
@@ -136,7 +136,7 @@ impl<'a> GeneralView<'a> {
             };
             incidences[k].points.push((
                 theta_o_deg,
-                phi_o_deg - phi_i_deg,
+                reduced_azimuth_deg(phi_o_deg) - reduced_azimuth_deg(phi_i_deg),
                 p.value,
                 p.weight > 0.0,
             ));
