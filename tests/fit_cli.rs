@@ -735,3 +735,24 @@ fn fit_json_does_not_depend_on_the_thread_count() {
     assert_eq!(text.matches("\"multiple_term\": \"surrogate\"").count(), 8);
     assert_eq!(one, run("2"));
 }
+
+/// A held scale is reported as given: 0.9 held on the shipped example's frosted sample (largest
+/// value 28.389...) had come back as 0.9000000000000001 from its round trip through the fit's
+/// units.
+#[test]
+fn a_held_scale_is_reported_as_given() {
+    let example = repo_file("fits/example.csv");
+    let out = stfit_ok(&[
+        p(&example),
+        "--sample",
+        "frosted",
+        "--model",
+        "ggx",
+        "--scale",
+        "0.9",
+        "--json",
+    ]);
+    let fits = fits_of(&out.stdout);
+    assert_eq!(fits[0]["scale"], 0.9);
+    assert_eq!(fits[0]["scale_fixed"], true);
+}

@@ -253,6 +253,11 @@ fn invalid_general_fit_options_are_usage_errors() {
         (vec!["--scale", "sqrt"], "--y-axis"),
         (vec!["--loss", "log", "--log-floor", "0"], "--log-floor"),
         (vec!["--loss", "log", "--log-floor", "nan"], "--log-floor"),
+        // The floor is a fraction of the largest value: 1e308 of it overflowed.
+        (vec!["--loss", "log", "--log-floor", "1e308"], "[1e-12, 1]"),
+        (vec!["--loss", "log", "--log-floor", "1e-13"], "[1e-12, 1]"),
+        // A subnormal scale has too few digits to come back as given.
+        (vec!["--scale", "1e-320"], "2.2e-308"),
         (vec!["--loss", "cubic"], "--loss"),
     ] {
         let mut all = vec![p(&file)];

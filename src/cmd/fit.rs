@@ -57,7 +57,7 @@ pub struct FitOptionArgs {
     #[arg(long, value_name = "E|free", default_value_t = DEFAULT_ETA.to_string(), allow_negative_numbers = true)]
     pub eta: String,
     /// The per-sample calibration scale: `free` (fitted) or a value to hold it at (`1` for
-    /// absolutely calibrated data).
+    /// absolutely calibrated data; a normal double, at least 2.2e-308).
     #[arg(
         long,
         value_name = "S|free",
@@ -69,7 +69,8 @@ pub struct FitOptionArgs {
     /// for data spanning decades; floor = --log-floor times the sample's largest value).
     #[arg(long, value_enum, default_value_t = LossArg::Sqrt)]
     pub loss: LossArg,
-    /// The floor of --loss log, relative to each sample's largest measured value.
+    /// The floor of --loss log, relative to each sample's largest measured value, in
+    /// [1e-12, 1].
     #[arg(long, value_name = "F", default_value_t = DEFAULT_LOG_FLOOR, allow_negative_numbers = true)]
     pub log_floor: f64,
     /// Local optimiser for the shape parameters.
@@ -216,28 +217,15 @@ impl FitOptionArgs {
                 stfit_fit::options::check_fit_eta(e).map_err(|e| e.to_string())
             })?,
             scale: parameter("--scale", &self.scale, |s| {
-                if s.is_finite() && s > 0.0 {
-                    Ok(s)
-                } else {
-                    Err(format!(
-                        "the scale must be finite and > 0, got {}",
-                        stfit_core::error::show(s)
-                    ))
-                }
+                stfit_fit::options::check_fit_scale(s).map_err(|e| e.to_string())
             })?,
             loss: match self.loss {
                 LossArg::Sqrt => Loss::Sqrt,
                 LossArg::Linear => Loss::Linear,
                 LossArg::Log => Loss::Log,
             },
-            log_floor: if self.log_floor.is_finite() && self.log_floor > 0.0 {
-                self.log_floor
-            } else {
-                return Err(usage(format!(
-                    "--log-floor: the floor must be finite and > 0, got {}",
-                    stfit_core::error::show(self.log_floor)
-                )));
-            },
+            log_floor: stfit_fit::options::check_log_floor(self.log_floor)
+                .map_err(|e| usage(format!("--log-floor: {e}")))?,
             optimizer: match self.optimizer {
                 OptimizerArg::NelderMead => Optimizer::NelderMead,
                 OptimizerArg::Lbfgs => Optimizer::Lbfgs,

@@ -52,7 +52,7 @@ use rayon::prelude::*;
 use stfit_core::ParamError;
 use stfit_core::Vec3;
 use stfit_core::bsdf::Masking;
-use stfit_core::error::check_gamma;
+use stfit_core::error::{check_gamma, show};
 use stfit_core::walk::ScatteringOrders;
 use thiserror::Error;
 
@@ -629,12 +629,14 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
         Parameter::Free => Parameter::Free,
         Parameter::Fixed(s) => {
             let su = s / unit;
-            if !(su.is_finite() && su > 0.0) {
+            if !(su.is_finite() && su >= f64::MIN_POSITIVE) {
                 return Err(FitError::Scale {
                     sample: sample.clone(),
                     reason: format!(
-                        "the fixed scale {s} is out of proportion to the data, whose largest \
-                         magnitude is {unit:e}"
+                        "the fixed scale {} is out of proportion to the data, whose largest \
+                         magnitude is {}",
+                        show(s),
+                        show(unit)
                     ),
                 });
             }
@@ -796,7 +798,11 @@ fn finish(
                 .into(),
         });
     }
-    let scale = scale_u * unit;
+    // A held scale is reported as given, not as its round trip through the fit's units.
+    let scale = match opts.scale {
+        Parameter::Fixed(s) => s,
+        Parameter::Free => scale_u * unit,
+    };
     if !scale.is_finite() || scale == 0.0 {
         return Err(FitError::Scale {
             sample: sample.clone(),

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 use stfit_core::bsdf::Masking;
-use stfit_core::error::check_eta;
+use stfit_core::error::{check_eta, show};
 use stfit_core::walk::ScatteringOrders;
 
 use crate::conventions::DEFAULT_ETA;
@@ -185,23 +185,49 @@ impl FitOptions {
             check_fit_eta(eta)?;
         }
         if let Parameter::Fixed(scale) = self.scale {
-            if !(scale.is_finite() && scale > 0.0) {
-                return Err(FitError::InvalidSpec(format!(
-                    "a fixed scale must be finite and > 0, got {scale}"
-                )));
-            }
+            check_fit_scale(scale)?;
         }
-        if !(self.log_floor.is_finite() && self.log_floor > 0.0) {
-            return Err(FitError::InvalidSpec(format!(
-                "the log floor must be finite and > 0, got {}",
-                self.log_floor
-            )));
-        }
+        check_log_floor(self.log_floor)?;
         check_orders(self.orders, self.masking)?;
         if self.orders == ScatteringOrders::All {
             check_fit_walks(self.walks)?;
         }
         Ok(())
+    }
+}
+
+/// Validates a held calibration scale: a finite, normal double > 0 (at least
+/// `f64::MIN_POSITIVE`, 2.2e-308). Below that a double has fewer than 16 significant digits,
+/// so the scale would not come back as given.
+pub fn check_fit_scale(scale: f64) -> Result<f64, FitError> {
+    if scale.is_finite() && scale >= f64::MIN_POSITIVE {
+        Ok(scale)
+    } else {
+        Err(FitError::InvalidSpec(format!(
+            "a held scale must be a finite number of at least 2.2e-308 (a normal double > 0), \
+             got {}",
+            show(scale)
+        )))
+    }
+}
+
+/// The supported range of the log loss's floor, relative to the sample's largest value.
+pub const LOG_FLOOR_RANGE: (f64, f64) = (1e-12, 1.0);
+
+/// Validates the log loss's floor relative to the sample's largest value: in
+/// [`LOG_FLOOR_RANGE`], so that the absolute floor is a positive number for any data stfit
+/// reads, and the loss still compares logarithms (a floor above the largest value would make
+/// it nearly linear).
+pub fn check_log_floor(floor: f64) -> Result<f64, FitError> {
+    let (lo, hi) = LOG_FLOOR_RANGE;
+    if (lo..=hi).contains(&floor) {
+        Ok(floor)
+    } else {
+        Err(FitError::InvalidSpec(format!(
+            "the log floor must be in [1e-12, 1] (a fraction of the sample's largest value), \
+             got {}",
+            show(floor)
+        )))
     }
 }
 

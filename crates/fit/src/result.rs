@@ -12,7 +12,7 @@ use stfit_core::ScatteringOrders;
 
 use crate::data::Measured;
 use crate::model::Model;
-use crate::options::{Loss, MultipleTerm, Optimizer, check_fit_eta};
+use crate::options::{Loss, MultipleTerm, Optimizer, check_fit_eta, check_log_floor};
 
 /// The result of fitting one model to one sample (one record of the fits JSON).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -137,14 +137,20 @@ impl FitResult {
 
     /// Checks that every number of the fit is in its documented range (`fits-format.md`): a
     /// model that can be evaluated ([`Model::check`]) whose eta is the glass of a fit
-    /// ([`check_fit_eta`]: in [1.05, 3]), a log floor finite and > 0 if given, a finite
+    /// ([`check_fit_eta`]: in [1.05, 3]), a log floor in [1e-12, 1] if given
+    /// ([`check_log_floor`]), a finite
     /// `rmse_sqrt_l` >= 0 and standard errors `null` or finite and > 0. The message names the
     /// field.
     pub fn check(&self) -> Result<(), String> {
         self.model.check().map_err(|e| e.to_string())?;
         check_fit_eta(self.model.eta).map_err(|e| e.to_string())?;
         if let Some(floor) = self.log_floor {
-            positive("log_floor", floor)?;
+            check_log_floor(floor).map_err(|_| {
+                format!(
+                    "log_floor must be in [1e-12, 1], got {}",
+                    stfit_core::error::show(floor)
+                )
+            })?;
         }
         if !(self.rmse_sqrt_l.is_finite() && self.rmse_sqrt_l >= 0.0) {
             return Err(format!(
