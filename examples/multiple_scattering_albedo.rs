@@ -21,13 +21,14 @@ fn main() -> Result<(), stfit_core::ParamError> {
     ] {
         let a = surface.with_orders(orders).albedo(wi, walks, 1);
         println!(
-            "{:8} reflected {:.4} ± {:.4}, transmitted {:.4} ± {:.4}, mean scattering events {:.2}",
+            "{:8} reflected {:.4} ± {:.4}, transmitted {:.4} ± {:.4}, mean scattering events {}",
             orders.name(),
             a.reflectance,
             a.reflectance_stderr,
             a.transmittance,
             a.transmittance_stderr,
-            a.mean_bounces
+            // None only if no walk left within the orders.
+            a.mean_bounces.map_or("-".into(), |b| format!("{b:.2}"))
         );
     }
     let all = surface.albedo(wi, walks, 1);

@@ -466,3 +466,38 @@ fn bad_full_sphere_arguments_are_usage_errors() {
         assert!(out.stdout.is_empty(), "{args:?}");
     }
 }
+
+/// Where no walk leaves within the orders (orders >= 2 of a near-specular surface: every walk
+/// leaves after one event), the path length is undefined: null in JSON and a dash in the text,
+/// not a mean of 0 events.
+#[test]
+fn mean_bounces_is_undefined_when_no_walk_left_within_the_orders() {
+    let args = [
+        "--ndf",
+        "ggx",
+        "--alpha",
+        "1e-8",
+        "--eta",
+        "1.5",
+        "--theta-i",
+        "30",
+        "--orders",
+        "multiple",
+    ];
+    let v = albedo_json(&args);
+    assert_eq!(num(&v, "reflectance") + num(&v, "transmittance"), 0.0);
+    assert!(v["mean_bounces"].is_null(), "{v}");
+    let mut text_args = vec!["albedo", "--walks", "1000"];
+    text_args.extend_from_slice(&args);
+    let out = stfit(&text_args);
+    assert_eq!(out.code, Some(0), "{}", out.stderr);
+    assert!(
+        out.stdout
+            .contains("mean bounces   - (no walk left within the orders)"),
+        "{}",
+        out.stdout
+    );
+    // With every order, each walk counts.
+    let all = albedo_json(&args[..8]);
+    assert!(num(&all, "mean_bounces") >= 1.0, "{all}");
+}

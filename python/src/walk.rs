@@ -154,7 +154,7 @@ impl PyMicrosurface {
 /// An albedo estimate: `reflectance`, `transmittance` and their standard errors (None with
 /// fewer than 2 walks, as `stfit albedo --json` gives null), the mean number of scattering
 /// events of the walks that left within the orders, `mean_bounces` (the path length, which
-/// facet albedos do not change: they weight a walk), the fraction `truncated` of the flux dropped by walks past the
+/// facet albedos do not change: they weight a walk; None when no walk left within the orders), the fraction `truncated` of the flux dropped by walks past the
 /// safety cap, and the number of `walks`.
 #[pyclass(module = "stfit", frozen)]
 pub struct Albedo(AlbedoEstimate);
@@ -180,7 +180,7 @@ impl Albedo {
         defined_stderr(self.0.walks, self.0.transmittance_stderr)
     }
     #[getter]
-    fn mean_bounces(&self) -> f64 {
+    fn mean_bounces(&self) -> Option<f64> {
         self.0.mean_bounces
     }
     #[getter]

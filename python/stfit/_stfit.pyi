@@ -120,14 +120,15 @@ class Albedo:
     other (``transmittance``), with standard errors (None with fewer than 2 walks, where they
     are undefined, as ``stfit albedo --json`` gives null), ``mean_bounces`` (scattering
     events per walk that left within the orders: the path length, which facet albedos do not
-    change, since they weight a walk rather than end it), the fraction
+    change, since they weight a walk rather than end it; None when no walk left within the
+    orders, as ``stfit albedo --json`` gives null), the fraction
     ``truncated`` dropped at the safety cap, and ``walks``."""
 
     reflectance: float
     transmittance: float
     reflectance_stderr: Optional[float]
     transmittance_stderr: Optional[float]
-    mean_bounces: float
+    mean_bounces: Optional[float]
     truncated: float
     walks: int
 

@@ -91,13 +91,16 @@ fn format_result(args: &Args, a: &AlbedoEstimate) -> String {
         Some(se) => format!(" +- {se:.6}"),
         None => String::new(),
     };
+    let bounces = match a.mean_bounces {
+        Some(b) => format!("{b:.4}"),
+        None => "- (no walk left within the orders)".to_owned(),
+    };
     let mut text = format!(
-        "reflectance    {:.6}{}\ntransmittance  {:.6}{}\nmean bounces   {:.4}\nwalks          {}\n",
+        "reflectance    {:.6}{}\ntransmittance  {:.6}{}\nmean bounces   {bounces}\nwalks          {}\n",
         a.reflectance,
         pm(a.reflectance_stderr),
         a.transmittance,
         pm(a.transmittance_stderr),
-        a.mean_bounces,
         a.walks
     );
     if a.truncated > 0.0 {

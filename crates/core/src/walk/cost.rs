@@ -46,7 +46,8 @@ pub const LONG_RUN_SECONDS: f64 = 10.0;
 /// The cost of one walk, from a pilot run ([`WalkCost::measure`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WalkCost {
-    /// Mean number of scattering events per walk.
+    /// Mean number of scattering events per walk that left within the orders (0 when none
+    /// of the pilot's did).
     pub mean_bounces: f64,
     /// Wall time of one walk on one thread, in seconds.
     pub seconds_per_walk: f64,
@@ -70,7 +71,7 @@ impl WalkCost {
             })
         });
         Self {
-            mean_bounces: pilot.mean_bounces,
+            mean_bounces: pilot.mean_bounces.unwrap_or(0.0),
             seconds_per_walk,
             truncated: pilot.truncated,
             threads: rayon::current_num_threads(),
@@ -116,7 +117,7 @@ impl WalkCost {
             (timed, estimator.albedo(first, path_walks, seed))
         });
         Self {
-            mean_bounces: path.mean_bounces,
+            mean_bounces: path.mean_bounces.unwrap_or(0.0),
             seconds_per_walk: seconds_per_walk * groups.len() as f64 / picked.len() as f64,
             truncated: path.truncated,
             threads: rayon::current_num_threads(),
@@ -229,7 +230,7 @@ mod tests {
             .collect();
         let cost = WalkCost::measure_pairs(&glass, &pairs, 1000, 5);
         let first = glass.albedo(pairs[0].0, PILOT_WALKS.min(1000 / 16), 5);
-        assert_eq!(cost.mean_bounces, first.mean_bounces);
+        assert_eq!(Some(cost.mean_bounces), first.mean_bounces);
         assert_eq!(cost.truncated, first.truncated);
         assert!(cost.seconds_per_walk > 0.0, "{cost:?}");
         let none = WalkCost::measure_pairs(&glass, &[], 1000, 5);

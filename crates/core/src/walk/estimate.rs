@@ -58,10 +58,11 @@ pub struct AlbedoEstimate {
     pub reflectance_stderr: f64,
     pub transmittance_stderr: f64,
     /// Mean number of scattering events of the walks that left the surface within the selected
-    /// orders: the path length. Facet albedos and Fresnel factors enter a walk as its weight,
-    /// not by ending it, so they scale the flux and leave this unchanged (a Lambertian
-    /// reflectance of 0 or 1 gives the same paths).
-    pub mean_bounces: f64,
+    /// orders: the path length; `None` when no walk did (then it is undefined: `--orders
+    /// multiple` on a surface so smooth that every walk leaves after one event). Facet albedos
+    /// and Fresnel factors enter a walk as its weight, not by ending it, so they scale the flux
+    /// and leave this unchanged (a Lambertian reflectance of 0 or 1 gives the same paths).
+    pub mean_bounces: Option<f64>,
     /// Fraction of the incident flux dropped by walks that reached the safety cap
     /// ([`MAX_BOUNCES`](super::MAX_BOUNCES) by default).
     pub truncated: f64,
@@ -546,11 +547,7 @@ pub(crate) fn albedo<W: Walker>(
         transmittance: t.mean,
         reflectance_stderr: r.stderr,
         transmittance_stderr: t.stderr,
-        mean_bounces: if total.escaped > 0 {
-            total.bounces as f64 / total.escaped as f64
-        } else {
-            0.0
-        },
+        mean_bounces: (total.escaped > 0).then(|| total.bounces as f64 / total.escaped as f64),
         truncated: if walks > 0 {
             total.truncated / walks as f64
         } else {
