@@ -214,7 +214,7 @@ fn a_pane_of_a_gamma_below_the_walk_range_is_refused() {
             "--to",
             "radiance",
             "--walks",
-            "1",
+            "2",
         ])
         .fails_with(1)
         .to_string();
@@ -478,4 +478,33 @@ fn shipped_example_exports_are_current() {
         }
     }
     assert_eq!(compared, 28);
+}
+
+/// One walk per Klems patch cannot estimate the standard errors a Radiance pane file states:
+/// refused (exit 2); two are rounded up to a square (4) and the file says so.
+#[test]
+fn radiance_needs_two_walks_per_patch() {
+    let dir = CaseDir::new("radiance-one-walk");
+    let (fits, out) = (example_fits(), dir.join("pane.xml"));
+    let run = |walks: &str| {
+        cli().run(&[
+            "export",
+            fits.as_str(),
+            "--sample",
+            "frosted",
+            "--model",
+            "ggx",
+            "--to",
+            "radiance",
+            "--out",
+            out.to_str().unwrap(),
+            "--walks",
+            walks,
+        ])
+    };
+    let e = run("1").fails_with(2).to_string();
+    assert!(e.contains("walks per patch must be in [2,"), "{e}");
+    run("2").ok();
+    let xml = std::fs::read_to_string(&out).unwrap();
+    assert!(xml.contains("Monte Carlo: 4 cosine-weighted incident directions per patch"));
 }

@@ -348,7 +348,8 @@ def export(
     Radiance options: ``layer`` ``pane`` (the rough face over a smooth back face, with all
     inter-reflections) or ``interface`` (the single rough interface); ``absorption``: the
     fraction absorbed in one normal crossing of the pane, in [0, 1); ``walks``: random walks
-    per Klems patch where walks are needed; ``seed``: their seed. They are refused for other
+    per Klems patch where walks are needed, at least 2, rounded up to a square; ``seed``: their
+    seed. They are refused for other
     targets. Clamps and other departures from the fit are issued as warnings; a bad option or
     fit raises ``ValueError``, an unreadable file ``OSError``."""
 

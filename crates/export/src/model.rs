@@ -175,7 +175,7 @@ mod tests {
             .to_string();
         assert!(e.contains("gamma >= 1.501"), "{e}");
         let opts = crate::radiance::RadianceOptions {
-            walks_per_patch: 1,
+            walks_per_patch: 2,
             ..Default::default()
         };
         let e = crate::radiance::klems(&model, &opts)

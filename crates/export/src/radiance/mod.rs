@@ -81,8 +81,9 @@ impl Default for RadianceOptions {
 }
 
 impl RadianceOptions {
-    /// Checks the options: absorption in [0, 1) and for a pane only, at least one walk, at
-    /// least one quadrature node.
+    /// Checks the options: absorption in [0, 1) and for a pane only, at least two walks per
+    /// patch (the file states standard errors, which one walk cannot estimate), at least one
+    /// quadrature node.
     pub fn check(&self) -> Result<(), ExportError> {
         layer::check_absorption(self.absorption)?;
         if self.layer == LayerKind::Interface && self.absorption != 0.0 {
@@ -90,9 +91,11 @@ impl RadianceOptions {
                 "absorption applies to a pane, not to a single interface".into(),
             ));
         }
-        if stfit_core::walk::check_walks(self.walks_per_patch).is_err() {
+        if self.walks_per_patch < 2 || stfit_core::walk::check_walks(self.walks_per_patch).is_err()
+        {
             return Err(ExportError::Unsupported(format!(
-                "walks per patch must be in [1, {}], got {}",
+                "walks per patch must be in [2, {}] (the file states their standard errors, \
+                 which one walk cannot estimate), got {}",
                 stfit_core::walk::MAX_WALKS,
                 self.walks_per_patch
             )));
