@@ -40,7 +40,8 @@ pub fn run(args: &Args) -> CmdResult {
     let theta = args.theta_i;
     if !theta.is_finite() || !(0.0..=180.0).contains(&theta) || theta == 90.0 {
         return Err(usage(format!(
-            "--theta-i must be in [0, 180] and not 90, got {theta}"
+            "--theta-i must be in [0, 180] and not 90, got {}",
+            stfit_core::error::show(theta)
         )));
     }
     check_walks(args.walks).map_err(|e| usage(format!("--walks: {e}")))?;

@@ -2,6 +2,7 @@
 //! its file gave, the measured value and a least-squares weight.
 
 use std::path::PathBuf;
+use stfit_core::error::show;
 
 use serde::{Deserialize, Serialize};
 
@@ -192,7 +193,10 @@ impl Measurement {
     /// 90, finite azimuths.
     pub fn check_angles(&self) -> Result<(), String> {
         let bad = |name: &str, value: f64, range: &str| {
-            Err(format!("{name} must be in {range} degrees, got {value}"))
+            Err(format!(
+                "{name} must be in {range} degrees, got {}",
+                show(value)
+            ))
         };
         match self.angles {
             Angles::InPlane {

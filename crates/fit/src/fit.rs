@@ -230,7 +230,7 @@ impl<'a> Prepared<'a> {
             if !(p.weight.is_finite() && p.weight >= 0.0) {
                 return Err(invalid(
                     index,
-                    format!("weight must be finite and >= 0, got {}", p.weight),
+                    format!("weight must be finite and >= 0, got {}", show(p.weight)),
                 ));
             }
             if p.weight == 0.0 {
@@ -239,7 +239,11 @@ impl<'a> Prepared<'a> {
             if !p.value.is_finite() {
                 return Err(invalid(
                     index,
-                    format!("{} must be finite, got {}", p.quantity().name(), p.value),
+                    format!(
+                        "{} must be finite, got {}",
+                        p.quantity().name(),
+                        show(p.value)
+                    ),
                 ));
             }
             p.check_angles().map_err(|reason| invalid(index, reason))?;

@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 use stfit_core::bsdf::Masking;
+use stfit_core::error::show;
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, StudentT};
 use stfit_core::walk::ScatteringOrders;
 
@@ -295,7 +296,7 @@ impl Model {
         if !(self.scale.is_finite() && self.scale > 0.0) {
             return Err(FitError::InvalidSpec(format!(
                 "scale must be finite and > 0, got {}",
-                self.scale
+                show(self.scale)
             )));
         }
         stfit_core::error::check_eta(self.eta)?;

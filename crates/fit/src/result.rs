@@ -5,6 +5,7 @@
 //! report, export, Python) uses it without being told again.
 
 use std::path::Path;
+use stfit_core::error::show;
 
 use serde::{Deserialize, Serialize};
 
@@ -155,7 +156,7 @@ impl FitResult {
         if !(self.rmse_sqrt_l.is_finite() && self.rmse_sqrt_l >= 0.0) {
             return Err(format!(
                 "rmse_sqrt_l must be finite and >= 0, got {}",
-                self.rmse_sqrt_l
+                show(self.rmse_sqrt_l)
             ));
         }
         let stderrs = [
@@ -222,12 +223,13 @@ impl FitResult {
         ];
         for (name, value, undefined, why) in held {
             if let (Some(v), true) = (value, undefined) {
-                return Err(format!("{name} must be null when {why}, got {v}"));
+                return Err(format!("{name} must be null when {why}, got {}", show(v)));
             }
         }
         if let (Some(floor), false) = (self.log_floor, self.loss == Loss::Log) {
             return Err(format!(
-                "log_floor must be null for a loss other than log, got {floor}"
+                "log_floor must be null for a loss other than log, got {}",
+                show(floor)
             ));
         }
         if self.model.orders == ScatteringOrders::Single && self.multiple_term.is_some() {
@@ -242,7 +244,10 @@ fn positive(name: &str, value: f64) -> Result<(), String> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(format!("{name} must be finite and > 0, got {value}"))
+        Err(format!(
+            "{name} must be finite and > 0, got {}",
+            show(value)
+        ))
     }
 }
 

@@ -5,6 +5,7 @@ use crate::error::SpecError;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
+use stfit_core::error::show;
 
 /// How an axis maps its parameter `x` (evenly spaced from `start` to `end`) to the tabulated
 /// value.
@@ -102,7 +103,8 @@ impl Axis {
         match self.values.windows(2).find(|w| w[0] >= w[1]) {
             Some(w) => Err(format!(
                 "values must be strictly increasing, got {} then {}",
-                w[0], w[1]
+                show(w[0]),
+                show(w[1])
             )),
             None => Ok(()),
         }
@@ -155,7 +157,10 @@ impl Axis {
                 let open = if open_lo { "(" } else { "[" };
                 return Err(SpecError::Axis {
                     axis,
-                    message: format!("value {v} is outside the supported range {open}{lo}, {hi}]"),
+                    message: format!(
+                        "value {} is outside the supported range {open}{lo}, {hi}]",
+                        show(v)
+                    ),
                 });
             }
         }

@@ -11,6 +11,7 @@ use crate::grid::{Axis, cycles_ior, cycles_mu, cycles_roughness};
 use crate::single::{Interface, TableMasking};
 use serde::{Deserialize, Serialize};
 use stfit_core::Vec3;
+use stfit_core::error::show;
 use stfit_core::walk::{ConductorFacet, DielectricFacet, ScatteringOrders};
 
 /// The NDF family.
@@ -224,7 +225,8 @@ impl TableSpec {
             DielectricFacet::new(v).map_err(|e| SpecError::Axis {
                 axis: "eta",
                 message: format!(
-                    "value {v} cannot be walked (orders multiple and all need random walks): {e}"
+                    "value {} cannot be walked (orders multiple and all need random walks): {e}",
+                    show(v)
                 ),
             })?;
         }
