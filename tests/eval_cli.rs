@@ -499,3 +499,13 @@ fn bad_walk_options_are_usage_errors() {
         assert!(out.stdout.is_empty(), "{args:?}");
     }
 }
+
+/// An empty stdin is bad data (exit 1) whose message shows the header eval reads, not a
+/// measurement file's.
+#[test]
+fn empty_stdin_names_the_pair_header() {
+    let out = run(&["--ndf", "ggx", "--alpha", "0.3", "--eta", "1.5"], "");
+    let e = out.fails_with(1);
+    assert!(e.contains("'wi_x,wi_y,wi_z,wo_x,wo_y,wo_z'"), "{e}");
+    assert!(!e.contains("sqrt_L"), "{e}");
+}

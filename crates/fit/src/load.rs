@@ -74,12 +74,10 @@ pub enum LoadErrorKind {
     /// The file could not be opened or read.
     #[error("cannot read the file: {0}")]
     Io(String),
-    /// No header: the file is empty or holds only blank and comment lines.
-    #[error(
-        "the file is empty; expected a header line such as \
-         'sample,theta_i_deg,theta_o_deg,sqrt_L' (see data-format.md)"
-    )]
-    Empty,
+    /// No header: the file is empty or holds only blank and comment lines; `expected` is a
+    /// header line of the kind of table being read.
+    #[error("the file is empty; expected a header line such as '{expected}' (see data-format.md)")]
+    Empty { expected: &'static str },
     /// A header but no measurement rows.
     #[error("no measurements after the header")]
     NoRows,
@@ -418,9 +416,16 @@ fn samples_from_records(
 ) -> Result<Vec<(Sample, u64)>, LoadError> {
     let mut records = records.into_iter();
     let Some((header_line, header_record)) = records.next() else {
-        return Err(
-            pending.unwrap_or_else(|| LoadError::new(source, Some(1), None, LoadErrorKind::Empty))
-        );
+        return Err(pending.unwrap_or_else(|| {
+            LoadError::new(
+                source,
+                Some(1),
+                None,
+                LoadErrorKind::Empty {
+                    expected: "sample,theta_i_deg,theta_o_deg,sqrt_L",
+                },
+            )
+        }));
     };
     let header = Header::parse(source, header_line, &header_record)?;
 
@@ -1259,11 +1264,11 @@ mod tests {
         );
         let (_, column, _) = kind_at("theta_i_deg,L\n0,1\n");
         assert_eq!(column.as_deref(), Some("theta_o_deg"));
-        assert_eq!(kind_at("").2, LoadErrorKind::Empty);
-        assert_eq!(
+        assert!(matches!(kind_at("").2, LoadErrorKind::Empty { .. }));
+        assert!(matches!(
             kind_at("\u{feff}\n# only a comment\n\n").2,
-            LoadErrorKind::Empty
-        );
+            LoadErrorKind::Empty { .. }
+        ));
         let (line, _, kind) = kind_at("# c\ntheta_i_deg,theta_o_deg,L\n\n");
         assert_eq!((line, kind), (Some(2), LoadErrorKind::NoRows));
     }

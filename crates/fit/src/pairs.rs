@@ -51,7 +51,10 @@ pub fn read_pairs(source: &Path, bytes: &[u8]) -> Result<PairTable, LoadError> {
     let (records, pending) = records_until_quote_problem(source, bytes)?;
     let mut records = records.into_iter();
     let Some((header_line, header_record)) = records.next() else {
-        return Err(pending.unwrap_or_else(|| err(Some(1), None, LoadErrorKind::Empty)));
+        let expected = "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z";
+        return Err(
+            pending.unwrap_or_else(|| err(Some(1), None, LoadErrorKind::Empty { expected }))
+        );
     };
     let header: Vec<String> = text_fields(source, header_line, &header_record, |i| {
         format!("header field {}", i + 1)
