@@ -93,7 +93,8 @@ pub struct SurfaceArgs {
     /// closed-form single-scattering BSDF.
     #[arg(long, value_enum, default_value_t)]
     pub facet: FacetArg,
-    /// Relative index of refraction n_inside / n_outside (> 0, != 1) of dielectric facets.
+    /// Relative index of refraction n_inside / n_outside of dielectric facets, in [0.01, 100]
+    /// with |eta - 1| >= 0.005.
     #[arg(long, allow_negative_numbers = true)]
     pub eta: Option<f64>,
     /// Real part of the conductor's relative index (with --k).

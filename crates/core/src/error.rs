@@ -23,6 +23,13 @@ pub enum ParamError {
         show(*.0)
     )]
     Eta(f64),
+    /// A quantity that must be finite is unbounded for these parameters (the peak of a
+    /// Student-T NDF with gamma < 2, which a null walk needs as its majorant).
+    #[error("{name} is unbounded ({expected})")]
+    Unbounded {
+        name: &'static str,
+        expected: &'static str,
+    },
     /// Any other parameter outside its documented range.
     #[error("{name} is out of range: {} ({expected})", show(*.value))]
     OutOfRange {

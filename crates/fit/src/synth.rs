@@ -442,7 +442,15 @@ pub fn parse_angle_list(text: &str) -> Result<Vec<f64>, String> {
                 if count > MAX_POINTS as f64 {
                     return Err(format!("'{item}' has more than {MAX_POINTS} angles"));
                 }
-                let round = |x: f64| (x * 1e9).round() / 1e9;
+                // Beyond 1e7 degrees a double has no digits below 1e-9 to round (and
+                // `x * 1e9` could overflow).
+                let round = |x: f64| {
+                    if x.abs() < 1e7 {
+                        (x * 1e9).round() / 1e9
+                    } else {
+                        x
+                    }
+                };
                 angles.extend((0..count as usize).map(|k| round(start + k as f64 * step)));
             }
             _ => {
@@ -505,6 +513,11 @@ mod tests {
             parse_angle_list("170:170.3:0.1,200").unwrap(),
             [170.0, 170.1, 170.2, 170.3, 200.0]
         );
+        // Huge azimuth ranges stay finite: the rounding to 1e-9 degrees stops where a double
+        // has no such digits.
+        let huge = parse_angle_list("0:1e300:1e299").unwrap();
+        assert_eq!((huge.len(), huge[10]), (11, 1e300));
+        assert!(huge.iter().all(|v| v.is_finite()));
         for bad in ["", "a", "1:2", "1:2:0", "3:2:1", "1:2:3:4", "inf", "0,,1"] {
             assert!(parse_angle_list(bad).is_err(), "{bad}");
         }

@@ -235,11 +235,18 @@ impl<S: SphereNdf, F: Facet> NullMicrosurface<S, F> {
     /// [`MAX_NULL_MAJORANT`].
     pub fn new(ndf: S, facet: F) -> Result<Self, ParamError> {
         let bound = ndf.majorant();
+        if bound == f64::INFINITY {
+            return Err(ParamError::Unbounded {
+                name: "the NDF's peak",
+                expected: "a null walk needs a finite one as its majorant: Student-T with \
+                           gamma >= 2",
+            });
+        }
         if !(bound.is_finite() && bound > 0.0) {
             return Err(ParamError::OutOfRange {
                 name: "NDF majorant",
                 value: bound,
-                expected: "a finite majorant > 0 (Student-T needs gamma >= 2)",
+                expected: "a finite majorant > 0",
             });
         }
         if bound > MAX_NULL_MAJORANT {
