@@ -113,14 +113,19 @@ pub fn model_description(m: &stfit_fit::Model) -> String {
     }
 }
 
-/// A file-name stem for a sample: ASCII letters, digits, `-`, `_` and `.` kept, anything else
-/// replaced by `_`; `sample` for an unnamed one.
+/// Characters of a sample's name kept in its file names (as `export` does), so that names stay
+/// within every file system's limit (255 bytes).
+pub const MAX_STEM_CHARS: usize = 100;
+
+/// A file-name stem for a sample: its first [`MAX_STEM_CHARS`] characters, ASCII letters,
+/// digits, `-`, `_` and `.` kept, anything else replaced by `_`; `sample` for an unnamed one.
 pub fn file_stem(sample: &str) -> String {
     if sample.is_empty() {
         return "sample".to_string();
     }
     sample
         .chars()
+        .take(MAX_STEM_CHARS)
         .map(|c| {
             if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
                 c
