@@ -248,6 +248,24 @@ fn shard_values_and_axes_are_checked_at_the_merge() {
         assert!(err.contains(&path) && err.contains(message), "{err}");
     }
     assert!(!std::path::Path::new(&out).exists());
+    // Within the tolerance, a negative fraction is accepted and written as 0, never below.
+    let slightly = dir.file("slightly.json", edit("\"single\":{\"reflected\":", "-9e-6"));
+    run_ok(
+        &[
+            "tables",
+            "merge",
+            "--out",
+            &out,
+            &slightly.display().to_string(),
+        ]
+        .map(String::from),
+    );
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let mut rows = csv.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = rows.next().unwrap().split(',').collect();
+    let r_ss = header.iter().position(|h| *h == "R_ss").unwrap();
+    let first: Vec<&str> = rows.next().unwrap().split(',').collect();
+    assert_eq!(first[r_ss].parse::<f64>().unwrap(), 0.0, "{csv}");
 }
 
 #[test]

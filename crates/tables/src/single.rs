@@ -170,13 +170,23 @@ impl Albedo {
         self.reflected + self.transmitted
     }
 
+    /// The albedo moved into what it can be, as a merge of shards accepts it within
+    /// `tolerance`: negative parts raised to 0, then [`Albedo::at_most_one`].
+    pub(crate) fn into_range(self, tolerance: f64) -> Albedo {
+        Albedo {
+            reflected: self.reflected.max(0.0),
+            transmitted: self.transmitted.max(0.0),
+        }
+        .at_most_one(tolerance)
+    }
+
     /// The albedo with `reflected` and `transmitted` scaled by `1 / total` where the total
     /// exceeds 1 by at most `tolerance`. A single-scattering albedo is at most 1 exactly
     /// (every masking here has `G <= G1(wi)`, and the visible normals of `wi` integrate to 1);
     /// the quadrature's rounding lifts near-specular cells above it (`1 + 9e-16` at Beckmann
     /// alpha 1e-8, mu 1e-4, eta 100), which would make `1 - E` negative. A larger excess is
     /// left as it is, to show.
-    fn at_most_one(self, tolerance: f64) -> Albedo {
+    pub(crate) fn at_most_one(self, tolerance: f64) -> Albedo {
         let total = self.total();
         if total > 1.0 && total <= 1.0 + tolerance {
             // The larger part as 1 minus the smaller, so that the sum rounds to 1, not above.

@@ -116,7 +116,15 @@ pub fn merge(files: &[(String, String)]) -> Result<Table, ShardError> {
             }
             check_values(spec, l).map_err(|m| mismatch(format!("line {}, {m}", l.index)))?;
         }
-        lines.extend(file.lines);
+        // What the checks accept within the tolerance is moved into range, so that the
+        // merged table keeps the promise of tables-format.md: E_ss and E_avg in [0, 1].
+        lines.extend(file.lines.into_iter().map(|mut l| {
+            l.average = l.average.into_range(TOLERANCE);
+            for c in &mut l.cells {
+                c.single = c.single.into_range(TOLERANCE);
+            }
+            l
+        }));
     }
     let Some((spec, count)) = reference else {
         return Err(ShardError::Incomplete("no shard files given".into()));
