@@ -928,11 +928,14 @@ impl Dataset {
     }
 
     /// The sample called `name`, or an error naming the file and the samples it has.
+    /// A file without a `sample` column has no sample to select, not even `""`, its unnamed one
+    /// (data-format.md).
     pub fn sample(&self, name: &str) -> Result<&Sample, LoadError> {
-        if let Some(sample) = self.samples.iter().find(|s| s.name == name) {
+        let unnamed = self.samples.iter().all(|s| s.name.is_empty());
+        if let Some(sample) = self.samples.iter().find(|s| s.name == name && !unnamed) {
             return Ok(sample);
         }
-        let kind = if self.samples.iter().all(|s| s.name.is_empty()) {
+        let kind = if unnamed {
             LoadErrorKind::NoSampleColumn(name.to_owned())
         } else {
             let available = self
@@ -1303,10 +1306,13 @@ mod tests {
             "t.csv: column 'sample': no sample named 'c' (the file has: 'a', 'b')"
         );
         let d = load("theta_i_deg,theta_o_deg,L\n0,180,1\n").unwrap();
-        assert!(matches!(
-            d.sample("a").unwrap_err().kind,
-            LoadErrorKind::NoSampleColumn(_)
-        ));
+        // Not even the unnamed sample's "" selects anything (data-format.md).
+        for name in ["a", ""] {
+            assert!(matches!(
+                d.sample(name).unwrap_err().kind,
+                LoadErrorKind::NoSampleColumn(_)
+            ));
+        }
     }
 
     #[test]
