@@ -95,8 +95,8 @@ pub const GAMMA_RANGE: (f64, f64) = (1.6, 40.0);
 pub const MU_RANGE: (f64, f64) = (1e-4, 1.0);
 /// Supported relative index range, `eta > 1` (open below).
 pub const ETA_RANGE: (f64, f64) = (1.0, 100.0);
-/// Supported range of a conductor's `n` (open below) and `k`.
-pub const CONDUCTOR_RANGE: (f64, f64) = (0.0, 100.0);
+/// Supported range of a conductor's `n`; `k` is in `[0, CONDUCTOR_RANGE.1]`.
+pub const CONDUCTOR_RANGE: (f64, f64) = (stfit_core::error::CONDUCTOR_N_MIN, 100.0);
 /// Largest number of walks per cell: the walks' own rule ([`stfit_core::walk::check_walks`]).
 pub use stfit_core::walk::MAX_WALKS;
 
@@ -190,10 +190,12 @@ impl TableSpec {
         self.check_walked_eta()?;
         if let Surface::Conductor { n, k } = self.surface {
             let (lo, hi) = CONDUCTOR_RANGE;
-            if !(n > lo && n <= hi && (lo..=hi).contains(&k)) {
+            if !((lo..=hi).contains(&n) && (0.0..=hi).contains(&k)) {
                 return Err(SpecError::Invalid(format!(
-                    "conductor index n = {n}, k = {k} is outside the supported range \
-                     0 < n <= {hi}, 0 <= k <= {hi}"
+                    "conductor index n = {}, k = {} is outside the supported range of tables: \
+                     n in [{lo}, {hi}], k in [0, {hi}]",
+                    show(n),
+                    show(k)
                 )));
             }
         }
