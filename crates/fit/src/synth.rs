@@ -63,7 +63,7 @@ pub enum SynthError {
     /// The sample name cannot be written as a data row.
     #[error(
         "sample name '{}' is not allowed: it must be non-empty, have no control characters \
-         and not start with '#' or whitespace",
+         and neither start with '#' nor start or end with whitespace (a reader trims it)",
         crate::data::short(.0)
     )]
     SampleName(String),
