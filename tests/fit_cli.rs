@@ -756,3 +756,16 @@ fn a_held_scale_is_reported_as_given() {
     assert_eq!(fits[0]["scale"], 0.9);
     assert_eq!(fits[0]["scale_fixed"], true);
 }
+
+/// `--out` of a fit names a file: a path ending in `/` is refused with a message that says so
+/// (it had said 'Is a directory' for a folder that did not exist).
+#[test]
+fn out_that_names_a_folder_is_refused_clearly() {
+    let dir = CaseDir::new("out-folder");
+    let out = format!("{}/missing/", dir.join("x").display());
+    let example = repo_file("fits/example.csv");
+    let e = stfit(&[p(&example), "--model", "ggx", "--out", &out])
+        .fails_with(1)
+        .to_string();
+    assert!(e.contains("a file is written here, not a folder"), "{e}");
+}

@@ -81,8 +81,15 @@ pub fn print_stdout(text: &str) -> CmdResult {
     }
 }
 
-/// Writes `text` to the file at `path`, replacing it.
+/// Writes `text` to the file at `path`, replacing it. A path ending in `/` names a folder,
+/// which this output is not: said so, rather than the system's 'Is a directory'.
 pub fn write_file(path: &Path, text: &str) -> CmdResult {
+    if path.as_os_str().to_string_lossy().ends_with('/') {
+        return Err(failed(format!(
+            "{}: a file is written here, not a folder: give a file name",
+            path.display()
+        )));
+    }
     std::fs::write(path, text).map_err(|e| failed(format!("{}: cannot write: {e}", path.display())))
 }
 
