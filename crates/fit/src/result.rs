@@ -13,7 +13,9 @@ use stfit_core::ScatteringOrders;
 
 use crate::data::Measured;
 use crate::model::Model;
-use crate::options::{Loss, MultipleTerm, Optimizer, check_fit_eta, check_log_floor};
+use crate::options::{
+    Loss, MultipleTerm, Optimizer, check_fit_eta, check_fit_walks, check_log_floor,
+};
 
 /// The result of fitting one model to one sample (one record of the fits JSON).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -145,6 +147,12 @@ impl FitResult {
     pub fn check(&self) -> Result<(), String> {
         self.model.check().map_err(|e| e.to_string())?;
         check_fit_eta(self.model.eta).map_err(|e| e.to_string())?;
+        // A fit's walks are those an all-orders fit accepts (at least 2), not a model's.
+        if let Some(walks) = self.model.walks {
+            check_fit_walks(walks).map_err(|_| {
+                format!("walks must be in [2, 1e9] for an all-orders fit, got {walks}")
+            })?;
+        }
         if let Some(floor) = self.log_floor {
             check_log_floor(floor).map_err(|_| {
                 format!(
@@ -511,6 +519,19 @@ mod tests {
         ] {
             edit(edits).unwrap();
         }
+        // An all-orders fit's walks are those a fit accepts: at least 2.
+        let all_orders = |walks: &str| {
+            edit(&[
+                ("orders", r#""all""#),
+                ("masking", r#""correlated""#),
+                ("walks", walks),
+                ("seed", "1"),
+                ("multiple_term", r#""surrogate""#),
+            ])
+        };
+        all_orders("2").unwrap();
+        let e = all_orders("1").unwrap_err();
+        assert!(e.contains("walks must be in [2, 1e9]"), "{e}");
     }
 
     /// A file that starts with a UTF-8 byte order mark (as some editors save) reads as without.
