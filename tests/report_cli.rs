@@ -272,3 +272,24 @@ fn report_of_the_walter_measurements() {
         assert!(best[0].0.starts_with("Student-T"), "{s}: {rows:?}");
     }
 }
+
+/// A fits file without fits, or without a fit of the selected sample, is refused (exit 1)
+/// instead of drawing a report without models.
+#[test]
+fn stored_fits_must_hold_a_fit_to_draw() {
+    let dir = CaseDir::new("report-no-fits");
+    let empty = dir.file("empty.json", r#"{"version": 1, "fits": []}"#);
+    let out = dir.join("out");
+    let e = stfit(&[
+        "report",
+        p(&example()),
+        "--fits",
+        p(&empty),
+        "--out",
+        p(&out),
+    ])
+    .fails_with(1)
+    .to_string();
+    assert!(e.contains("the file holds no fits"), "{e}");
+    assert!(!out.exists());
+}

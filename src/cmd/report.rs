@@ -115,8 +115,20 @@ fn stored_fits(
 ) -> Result<Vec<FitResult>, CmdError> {
     // Fits whose model cannot be evaluated are named in the report's warnings, not refused.
     let mut fits = FitsFile::read_unchecked(path).map_err(failed)?.fits;
+    if fits.is_empty() {
+        return Err(failed(format!(
+            "{}: the file holds no fits",
+            path.display()
+        )));
+    }
     if selected {
         fits.retain(|f| data.samples.iter().any(|s| s.name == f.sample));
+        if fits.is_empty() {
+            return Err(failed(format!(
+                "{}: no stored fit of the selected sample",
+                path.display()
+            )));
+        }
     }
     Ok(fits)
 }
