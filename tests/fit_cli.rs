@@ -769,3 +769,19 @@ fn out_that_names_a_folder_is_refused_clearly() {
         .to_string();
     assert!(e.contains("a file is written here, not a folder"), "{e}");
 }
+
+/// Data whose largest value is subnormal (below 2.2e-308) are refused with a reason, not fitted
+/// to a scale that no model can be multiplied by without underflow (the report then had drawn
+/// no model at all).
+#[test]
+fn subnormal_data_are_refused() {
+    let dir = CaseDir::new("subnormal");
+    let data = dir.file(
+        "sub.csv",
+        "sample,theta_i_deg,theta_o_deg,L\na,0,180,1e-320\na,30,170,1e-320\na,30,190,2e-320\n",
+    );
+    let e = stfit(&[p(&data), "--model", "ggx"])
+        .fails_with(1)
+        .to_string();
+    assert!(e.contains("below the normal range of doubles"), "{e}");
+}

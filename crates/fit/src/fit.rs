@@ -254,6 +254,18 @@ impl<'a> Prepared<'a> {
         }
         let measured = Measured::of(quantity.iter().copied());
         let unit = v.iter().fold(0.0f64, |m, &v: &f64| m.max(v.abs()));
+        if unit > 0.0 && unit < f64::MIN_POSITIVE {
+            // Subnormal values carry fewer than 16 digits, and a scale fitted to them could
+            // not be applied to a model without underflow.
+            return Err(FitError::Scale {
+                sample: sample.name.clone(),
+                reason: format!(
+                    "the largest value is {}, below the normal range of doubles (2.2e-308): \
+                     too few digits to fit; multiply the values by a power of 10",
+                    show(unit)
+                ),
+            });
+        }
         let unit = if unit > 0.0 { unit } else { 1.0 };
         v.iter_mut().for_each(|v| *v /= unit);
         let informative = distinct_pairs(
