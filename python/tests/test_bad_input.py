@@ -84,9 +84,17 @@ def test_numpy_integers_are_accepted_as_walks_and_seed():
 @pytest.mark.parametrize("call", ["albedo", "eval", "export", "synth"])
 def test_walks_outside_core_range_raise_value_error(call, walks, tmp_path):
     """Walks of one estimate outside core's [1, 1e9] (check_walks) raise a ValueError naming
-    walks and the range before any walk runs (huge counts hung the interpreter)."""
-    with pytest.raises(ValueError, match=r"walks.*\[1, (1e9|1000000000)\]"):
+    walks and the range before any walk runs (huge counts hung the interpreter); a Radiance
+    export, whose file states standard errors, needs at least 2 per patch."""
+    low = 2 if call == "export" else 1
+    with pytest.raises(ValueError, match=rf"walks.*\[{low}, (1e9|1000000000)\]"):
         WALKED[call](walks, tmp_path / "report")
+
+
+def test_radiance_export_refuses_one_walk_per_patch(tmp_path):
+    """One walk per Klems patch cannot estimate the standard errors the file states."""
+    with pytest.raises(ValueError, match=r"walks per patch must be in \[2, "):
+        WALKED["export"](1, tmp_path / "report")
 
 
 @pytest.mark.parametrize("walks, text", [(1, "at least 2 walks"), (10**9 + 1, r"\[2, 1e9\]")])
