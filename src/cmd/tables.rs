@@ -38,8 +38,9 @@ pub struct TableArgs {
     /// NDF family.
     #[arg(long, value_enum, required = true)]
     pub ndf: Option<NdfArg>,
-    /// Roughness axis: START:END:COUNT, MAP:START:END:COUNT (MAP lin, log, sq: alpha = x^2)
-    /// or a list v1,v2,..., strictly increasing; alpha in [1e-8, 4].
+    /// Roughness axis: START:END:COUNT, MAP:START:END:COUNT (MAP lin, log, sq: alpha = x^2,
+    /// or cycles-ior as for --eta-grid; see tables-format.md) or a list v1,v2,..., strictly
+    /// increasing; alpha in [1e-8, 4].
     #[arg(long)]
     pub alpha_grid: Option<Axis>,
     /// Student-T shape axis (student-t only), as --alpha-grid; gamma in [1.6, 40].
