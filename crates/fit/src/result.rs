@@ -161,6 +161,9 @@ impl FitResult {
                 )
             })?;
         }
+        if self.n_points == 0 {
+            return Err("n_points must be at least 1, got 0".to_owned());
+        }
         if !(self.rmse_sqrt_l.is_finite() && self.rmse_sqrt_l >= 0.0) {
             return Err(format!(
                 "rmse_sqrt_l must be finite and >= 0, got {}",
@@ -355,7 +358,15 @@ impl FitsFile {
             _ => {}
         }
         // Parsed from the text itself, not the `Value`, so every number keeps its exact bits.
-        serde_json::from_str(text).map_err(json)
+        serde_json::from_str(text).map_err(|e| match first_unreadable_fit(&value) {
+            Some((index, label)) => FitsFileError::InvalidFit {
+                file: source.to_owned(),
+                index,
+                label,
+                reason: e.to_string(),
+            },
+            None => json(e),
+        })
     }
 
     /// Reads stored fits from `path` ([`FitsFile::from_json`]).
@@ -367,6 +378,24 @@ impl FitsFile {
     pub fn read_unchecked(path: &Path) -> Result<Self, FitsFileError> {
         Self::from_json_unchecked(&path.display().to_string(), &read_text(path)?)
     }
+}
+
+/// The index of the first record of `file`'s `fits` array that is not a [`FitResult`], and
+/// its label as far as the record tells it (`sample 'frosted'`), so that a key of the wrong
+/// type or a contradiction between `gamma` and `gamma_fixed` names its fit.
+fn first_unreadable_fit(file: &serde_json::Value) -> Option<(usize, String)> {
+    let fits = file.get("fits")?.as_array()?;
+    fits.iter().enumerate().find_map(|(index, record)| {
+        serde_json::from_value::<FitResult>(record.clone())
+            .is_err()
+            .then(|| {
+                let label = match record.get("sample").and_then(|s| s.as_str()) {
+                    Some(sample) => format!("sample '{}'", crate::data::short(sample)),
+                    None => "no sample".to_owned(),
+                };
+                (index, label)
+            })
+    })
 }
 
 /// The text of a fits file.
@@ -458,6 +487,7 @@ mod tests {
             ("scale_stderr", "-1e-3"),
             ("eta_stderr", "-1"),
             ("log_floor", "0"),
+            ("n_points", "0"),
         ] {
             let e = FitsFile::from_json("f.json", &with(key, value))
                 .unwrap_err()
@@ -532,6 +562,32 @@ mod tests {
         all_orders("2").unwrap();
         let e = all_orders("1").unwrap_err();
         assert!(e.contains("walks must be in [2, 1e9]"), "{e}");
+    }
+
+    /// A record that is not a fit at all (a key of the wrong type, or `gamma_fixed` true with
+    /// `gamma` null) is refused naming its index and sample, and the line of the fault.
+    #[test]
+    fn an_unreadable_record_names_its_fit() {
+        let mut v: serde_json::Value = serde_json::from_str(&with("eta", "1.51")).unwrap();
+        let mut second = v["fits"][0].clone();
+        second["sample"] = "etched".into();
+        second["gamma_fixed"] = true.into();
+        second["gamma"] = serde_json::Value::Null;
+        v["fits"].as_array_mut().unwrap().push(second);
+        let text = serde_json::to_string_pretty(&v).unwrap();
+        let e = FitsFile::from_json("f.json", &text)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("f.json: fit 1 (sample 'etched'): ")
+                && e.contains("gamma_fixed is true but gamma is null")
+                && e.contains("line "),
+            "{e}"
+        );
+        let e = FitsFile::from_json("f.json", &with("n_points", "\"ten\""))
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("f.json: fit 0 (sample 's'): "), "{e}");
     }
 
     /// A file that starts with a UTF-8 byte order mark (as some editors save) reads as without.
