@@ -757,6 +757,20 @@ fn a_held_scale_is_reported_as_given() {
     assert_eq!(fits[0]["scale_fixed"], true);
 }
 
+/// A held scale so large that the model overflows everywhere is named as the likely cause: the
+/// message had blamed near-specular directions alone.
+#[test]
+fn a_held_scale_that_overflows_the_model_is_named() {
+    let example = repo_file("fits/example.csv");
+    let e = stfit(&[p(&example), "--model", "ggx", "--scale", "1e308"])
+        .fails_with(1)
+        .to_string();
+    assert!(
+        e.contains("the held scale 1e308 may make the model overflow"),
+        "{e}"
+    );
+}
+
 /// `--out` of a fit names a file: a path ending in `/` is refused with a message that says so
 /// (it had said 'Is a directory' for a folder that did not exist).
 #[test]

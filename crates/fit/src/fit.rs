@@ -132,14 +132,26 @@ pub enum FitError {
     /// The cost was not finite at any point the optimiser evaluated, from every start.
     #[error(
         "sample `{}`, model {model}: the model is not finite at any of the {evaluations} \
-         points the optimizer tried; the measured directions may lie where the model \
-         overflows (near-specular pairs with a tiny roughness)",
-        short(sample)
+         points the optimizer tried; {}",
+        short(sample),
+        match held_scale {
+            Some(s) => format!(
+                "the held scale {} may make the model overflow (--scale), or the measured \
+                 directions lie where the model overflows (near-specular pairs with a tiny \
+                 roughness)",
+                show(*s)
+            ),
+            None => "the measured directions may lie where the model overflows \
+                     (near-specular pairs with a tiny roughness)"
+                .to_owned(),
+        }
     )]
     NoFiniteCost {
         sample: String,
         model: &'static str,
         evaluations: u64,
+        /// The scale, when it was held rather than fitted.
+        held_scale: Option<f64>,
     },
     /// A model value that overflows or underflows f64.
     #[error("{0}")]
@@ -772,6 +784,10 @@ fn search(
         sample: eval.prep.sample.name.clone(),
         model: eval.shape.kind.name(),
         evaluations,
+        held_scale: match eval.opts.scale {
+            Parameter::Fixed(s) => Some(s),
+            Parameter::Free => None,
+        },
     })?;
     Ok((best, iterations))
 }
