@@ -590,6 +590,23 @@ mod tests {
         assert!(e.starts_with("f.json: fit 0 (sample 's'): "), "{e}");
     }
 
+    /// The example of `fits-format.md` is a fits file this stfit reads, and stfit writes it back
+    /// with the same keys in the same order.
+    #[test]
+    fn the_documented_example_reads_and_is_written_in_its_key_order() {
+        let page = include_str!("../../../fits-format.md");
+        let start = page.find("```json\n").expect("the page has a JSON example") + 8;
+        let example = &page[start..start + page[start..].find("```").unwrap()];
+        let file = FitsFile::from_json("fits-format.md", example).unwrap();
+        let keys = |text: &str| -> Vec<String> {
+            text.lines()
+                .filter_map(|l| l.trim().strip_prefix('"'))
+                .filter_map(|l| l.split_once("\":").map(|(k, _)| k.to_owned()))
+                .collect()
+        };
+        assert_eq!(keys(example), keys(&file.to_json()));
+    }
+
     /// A file that starts with a UTF-8 byte order mark (as some editors save) reads as without.
     #[test]
     fn a_leading_byte_order_mark_is_skipped() {
