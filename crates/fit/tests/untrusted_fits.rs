@@ -114,20 +114,25 @@ fn data_of_any_magnitude_give_the_same_relative_standard_errors() {
     }
 }
 
-/// A scale held at a value out of proportion to the data (1 for data of 1e-320) is a typed
-/// error, not a fit at an infinite scale.
+/// A scale held at a value out of proportion to the data (1e20 for data of 1e-300, 1e-20 for
+/// data of 1e300) is a typed error, not a fit at an infinite or zero scale in the fit's units.
 #[test]
 fn a_fixed_scale_out_of_proportion_is_refused() {
-    let tiny = with_points(&noisy_student_t(), |p| Measurement {
-        value: p.value * 1e-320,
-        ..*p
-    });
-    let opts = FitOptions {
-        scale: Parameter::Fixed(1.0),
-        ..FitOptions::default()
-    };
-    let e = fit_sample(&tiny, ModelSpec::ggx(), &opts).unwrap_err();
-    assert!(e.to_string().contains("out of proportion"), "{e}");
+    for (k, held) in [(1e-300, 1e20), (1e300, 1e-20)] {
+        let data = with_points(&noisy_student_t(), |p| Measurement {
+            value: p.value * k,
+            ..*p
+        });
+        let opts = FitOptions {
+            scale: Parameter::Fixed(held),
+            ..FitOptions::default()
+        };
+        let e = fit_sample(&data, ModelSpec::ggx(), &opts).unwrap_err();
+        assert!(
+            e.to_string().contains("out of proportion"),
+            "{k} {held}: {e}"
+        );
+    }
 }
 
 fn assert_flagged(f: &FitResult, expected: &dyn Fn(&FitWarning) -> bool) {
