@@ -347,11 +347,12 @@ impl PyFitResult {
         py.import("json")?.call_method1("loads", (self.to_json(),))
     }
 
-    /// A record from its JSON text (`to_json`).
+    /// A record from its JSON text (`to_json`), checked as a fits file checks each of its
+    /// records ([`FitResult::check`]: every number in its documented range).
     #[staticmethod]
     fn from_json(text: &str) -> PyResult<Self> {
         let fit: FitResult = serde_json::from_str(text).map_err(value_error)?;
-        fit.model.check().map_err(value_error)?;
+        fit.check().map_err(value_error)?;
         Ok(Self(fit))
     }
 

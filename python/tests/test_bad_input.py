@@ -168,6 +168,30 @@ def test_predict_in_range_is_unchanged():
     assert all(math.isfinite(v) and v >= 0 for v in values) and values[0] > 0
 
 
+@pytest.mark.parametrize("key, value, text", [
+    ("n_points", 0, "n_points must be at least 1"),
+    ("rmse_sqrt_l", -1.0, "rmse_sqrt_l must be finite and >= 0"),
+    ("eta", 1.01, r"eta is out of range: 1.01 \(the glass of a fit has eta in \[1.05, 3\]\)"),
+    ("log_floor", 5.0, r"log_floor must be in \[1e-12, 1\]"),
+    ("alpha_stderr", -1.0, "alpha_stderr must be finite and > 0"),
+    ("multiple_term", "exact", "multiple_term must be null for orders single"),
+])
+def test_from_json_checks_the_record_as_a_fits_file_does(key, value, text, tmp_path):
+    """FitResult.from_json refuses a record with a number outside its documented range, as
+    read_fits refuses it in a file, where it accepted it (only the model was checked) and
+    fits_json then wrote a file that read_fits refuses."""
+    import json
+
+    record = {**json.loads(_ground_ggx().to_json()), key: value}
+    with pytest.raises(ValueError, match=text):
+        stfit.FitResult.from_json(json.dumps(record))
+    path = tmp_path / "fits.json"
+    path.write_text(json.dumps({"version": 1, "fits": [record]}))
+    with pytest.raises(ValueError, match=text):
+        stfit.read_fits(path)
+    assert stfit.FitResult.from_json(_ground_ggx().to_json()) == _ground_ggx()
+
+
 ROWS = {"sample": ["a", "a", "a"], "theta_i_deg": [0.0, 0.0, 30.0],
         "theta_o_deg": [180.0, 170.0, 190.0], "L": [1.0, 0.5, 0.7]}
 
@@ -344,3 +368,4 @@ def test_report_refuses_fit_options_with_stored_fits(option, tmp_path):
     with pytest.raises(ValueError, match=f"^{name}: does not apply with fits"):
         stfit.report(data, fits, out=tmp_path / "r", **option)
     assert not (tmp_path / "r").exists()
+
