@@ -369,3 +369,33 @@ def test_report_refuses_fit_options_with_stored_fits(option, tmp_path):
         stfit.report(data, fits, out=tmp_path / "r", **option)
     assert not (tmp_path / "r").exists()
 
+
+@pytest.mark.parametrize("w, dtype", [
+    (np.array([0.0, 0.0, 1.0 + 0.5j]), "complex128"),
+    ([False, False, True], "bool"),
+    (["0", "0", "1"], "<U1"),
+    (np.array([0.0, 0.0, 1.0], dtype=object), "object"),
+])
+@pytest.mark.parametrize("call", [
+    lambda w: stfit.Ggx(0.3).d(w),
+    lambda w: stfit.Ggx(0.3).sample_visible(w),
+    lambda w: stfit.RoughDielectric(stfit.Ggx(0.3), 1.5).eval(UP, w),
+    lambda w: stfit.RoughDielectric(stfit.Ggx(0.3), 1.5).sample(w),
+    lambda w: _walk().albedo(w, walks=10),
+], ids=["d", "sample_visible", "eval", "sample", "albedo"])
+def test_directions_of_other_dtypes_are_refused(call, w, dtype):
+    """Directions must have an integer or float dtype, as load's number columns: complex
+    numbers (whose imaginary part was dropped with only a ComplexWarning), booleans and text
+    (parsed as numbers) raise a ValueError naming the dtype, where they were converted."""
+    with pytest.raises(ValueError, match=rf": not an array of numbers \(an integer or float "
+                                         rf"dtype\), got dtype {dtype}"):
+        call(w)
+
+
+def test_integer_and_float32_directions_are_accepted():
+    """Integer and float32 arrays, lists and non-contiguous views are directions as before."""
+    ndf = stfit.Ggx(0.3)
+    up = ndf.d([0.0, 0.0, 1.0])
+    for w in ([0, 0, 1], np.array([0, 0, 1], dtype=np.uint8), np.array(UP, dtype=np.float32),
+              np.eye(3)[::-1][0]):
+        assert ndf.d(w) == up
