@@ -605,7 +605,16 @@ pub fn report(
     };
     let data = dataset_of(data)?;
     let fits = match fits {
-        Some(f) => results(f)?,
+        // As `stfit report --fits` refuses a fits file with no fit: a report without models.
+        Some(f) => match results(f)? {
+            none if none.is_empty() => {
+                return Err(arg_error(
+                    "fits",
+                    "holds no fit; give at least one, or None to fit the four models first",
+                ));
+            }
+            some => some,
+        },
         None => {
             let fit_opts = fit_options(
                 eta,

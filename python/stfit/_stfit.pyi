@@ -319,7 +319,7 @@ def report(
     fits.md. Without ``fits``, the four models are fitted first with the options given (as in
     ``fit``: loss "sqrt", log_floor 1e-3, optimizer "nelder-mead", orders "single", walks
     20,000, seed 1, multiple_term "surrogate" where not given). With ``fits`` every fit option
-    raises ValueError: stored fits carry their own. Returns the paths written; non-fatal
+    raises ValueError: stored fits carry their own; so does an empty ``fits``. Returns the paths written; non-fatal
     findings are issued as warnings."""
 
 def export(

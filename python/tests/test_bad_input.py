@@ -399,3 +399,12 @@ def test_integer_and_float32_directions_are_accepted():
     for w in ([0, 0, 1], np.array([0, 0, 1], dtype=np.uint8), np.array(UP, dtype=np.float32),
               np.eye(3)[::-1][0]):
         assert ndf.d(w) == up
+
+
+def test_report_refuses_an_empty_list_of_fits(tmp_path):
+    """report(data, []) raises a ValueError naming fits and writes nothing, as
+    `stfit report --fits` refuses a fits file with no fit, where it drew a report without
+    models."""
+    with pytest.raises(ValueError, match="^fits: holds no fit"):
+        stfit.report(str(EXAMPLE), [], out=tmp_path / "r")
+    assert not (tmp_path / "r").exists()
