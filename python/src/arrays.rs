@@ -12,6 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat};
 use rayon::prelude::*;
 use stfit_core::Vec3;
+use stfit_core::error::show;
 use stfit_fit::pairs::{UNIT_TOLERANCE, is_unit_norm};
 
 /// Rows per parallel task (and per random-number stream of the samplers): batches shorter
@@ -103,9 +104,12 @@ pub fn check_unit(flat: &[f64], name: &str) -> PyResult<()> {
     let c = &flat[3 * k..3 * k + 3];
     let norm = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
     Err(PyValueError::new_err(format!(
-        "{name}[{k}] = [{}, {}, {}] is not a unit vector (norm {norm}); directions must have \
+        "{name}[{k}] = [{}, {}, {}] is not a unit vector (norm {}); directions must have \
          |norm - 1| <= {UNIT_TOLERANCE:e}",
-        c[0], c[1], c[2]
+        show(c[0]),
+        show(c[1]),
+        show(c[2]),
+        show(norm)
     )))
 }
 

@@ -8,6 +8,7 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 use stfit_core::ScatteringOrders;
+use stfit_core::error::show;
 use stfit_fit::conventions::{THETA_I_RANGE, THETA_O_RANGE, theta_i_in_range, theta_o_in_range};
 use stfit_fit::options::check_fit_walks;
 use stfit_fit::synth::{SynthSpec, parse_angle_list, write_file};
@@ -386,7 +387,7 @@ fn check_angles(
         None => Ok(()),
         Some(k) => Err(value_error(format!(
             "{name}[{k}] = {} is out of range; must be in {range} degrees",
-            values[k]
+            show(values[k])
         ))),
     }
 }

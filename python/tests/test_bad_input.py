@@ -408,3 +408,15 @@ def test_report_refuses_an_empty_list_of_fits(tmp_path):
     with pytest.raises(ValueError, match="^fits: holds no fit"):
         stfit.report(str(EXAMPLE), [], out=tmp_path / "r")
     assert not (tmp_path / "r").exists()
+
+
+def test_huge_and_tiny_numbers_in_messages_are_short():
+    """A direction or an angle of 1e300 or 5e-324 is named in scientific notation in the
+    message, where its hundreds of digits were written out."""
+    with pytest.raises(ValueError) as e:
+        stfit.Ggx(0.3).sigma([1e300, 5e-324, 0.0])
+    assert "w[0] = [1e300, 5e-324, 0] is not a unit vector (norm inf)" in str(e.value)
+    assert len(str(e.value)) < 200
+    with pytest.raises(ValueError, match=r"^theta_i_deg\[0\] = 1e300 is out of range") as e:
+        _ground_ggx().predict([1e300], [180.0])
+    assert len(str(e.value)) < 200
