@@ -1,9 +1,10 @@
 //! NumPy arrays of directions in, arrays of values out, and the parallel loops over them.
 //!
 //! A batch of directions is any array-like of shape `(..., 3)` (one direction per row of the
-//! last axis), converted to contiguous `float64` without a copy when it already is one. Values
-//! come back with the leading shape (a Python float for a single direction). Every direction
-//! must be a unit vector (|norm - 1| <= [`UNIT_TOLERANCE`]), the library's precondition.
+//! last axis) of an integer or float dtype, converted to contiguous `float64` without a copy
+//! when it already is one. Values come back with the leading shape (a Python float for a
+//! single direction). Every direction must be a unit vector (|norm - 1| <=
+//! [`UNIT_TOLERANCE`]), the library's precondition.
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -11,6 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat};
 use rayon::prelude::*;
 use stfit_core::Vec3;
+use stfit_core::error::show;
 use stfit_fit::pairs::{UNIT_TOLERANCE, is_unit_norm};
 
 /// Rows per parallel task (and per random-number stream of the samplers): batches shorter
@@ -25,16 +27,28 @@ pub struct Dirs<'py> {
 }
 
 impl<'py> Dirs<'py> {
-    /// The batch in `obj`, named `name` in errors.
+    /// The batch in `obj`, named `name` in errors: an array of an integer or float dtype
+    /// (booleans, complex numbers, text and objects are refused, not converted: a plain
+    /// conversion drops an imaginary part and parses text).
     pub fn new(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<Self> {
         let py = obj.py();
         let np = py.import("numpy")?;
+        let not_numbers =
+            |e: PyErr| PyValueError::new_err(format!("{name}: not an array of numbers: {e}"));
+        let array = np.call_method1("asarray", (obj,)).map_err(not_numbers)?;
+        let dtype = array.getattr("dtype")?;
+        let kind: String = dtype.getattr("kind")?.extract()?;
+        if !matches!(kind.as_str(), "i" | "u" | "f") {
+            return Err(PyValueError::new_err(format!(
+                "{name}: not an array of numbers (an integer or float dtype), got dtype {dtype}"
+            )));
+        }
         let kwargs = PyDict::new(py);
         kwargs.set_item("dtype", np.getattr("float64")?)?;
         let converted = np
             .getattr("ascontiguousarray")?
-            .call((obj,), Some(&kwargs))
-            .map_err(|e| PyValueError::new_err(format!("{name}: not an array of numbers: {e}")))?;
+            .call((array,), Some(&kwargs))
+            .map_err(not_numbers)?;
         let array: PyReadonlyArrayDyn<'py, f64> = converted.extract()?;
         let full = array.shape().to_vec();
         if full.last() != Some(&3) {
@@ -90,9 +104,12 @@ pub fn check_unit(flat: &[f64], name: &str) -> PyResult<()> {
     let c = &flat[3 * k..3 * k + 3];
     let norm = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
     Err(PyValueError::new_err(format!(
-        "{name}[{k}] = [{}, {}, {}] is not a unit vector (norm {norm}); directions must have \
+        "{name}[{k}] = [{}, {}, {}] is not a unit vector (norm {}); directions must have \
          |norm - 1| <= {UNIT_TOLERANCE:e}",
-        c[0], c[1], c[2]
+        show(c[0]),
+        show(c[1]),
+        show(c[2]),
+        show(norm)
     )))
 }
 

@@ -8,6 +8,7 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 use stfit_core::ScatteringOrders;
+use stfit_core::error::show;
 use stfit_fit::conventions::{THETA_I_RANGE, THETA_O_RANGE, theta_i_in_range, theta_o_in_range};
 use stfit_fit::options::check_fit_walks;
 use stfit_fit::synth::{SynthSpec, parse_angle_list, write_file};
@@ -347,11 +348,12 @@ impl PyFitResult {
         py.import("json")?.call_method1("loads", (self.to_json(),))
     }
 
-    /// A record from its JSON text (`to_json`).
+    /// A record from its JSON text (`to_json`), checked as a fits file checks each of its
+    /// records ([`FitResult::check`]: every number in its documented range).
     #[staticmethod]
     fn from_json(text: &str) -> PyResult<Self> {
         let fit: FitResult = serde_json::from_str(text).map_err(value_error)?;
-        fit.model.check().map_err(value_error)?;
+        fit.check().map_err(value_error)?;
         Ok(Self(fit))
     }
 
@@ -385,7 +387,7 @@ fn check_angles(
         None => Ok(()),
         Some(k) => Err(value_error(format!(
             "{name}[{k}] = {} is out of range; must be in {range} degrees",
-            values[k]
+            show(values[k])
         ))),
     }
 }
@@ -604,7 +606,16 @@ pub fn report(
     };
     let data = dataset_of(data)?;
     let fits = match fits {
-        Some(f) => results(f)?,
+        // As `stfit report --fits` refuses a fits file with no fit: a report without models.
+        Some(f) => match results(f)? {
+            none if none.is_empty() => {
+                return Err(arg_error(
+                    "fits",
+                    "holds no fit; give at least one, or None to fit the four models first",
+                ));
+            }
+            some => some,
+        },
         None => {
             let fit_opts = fit_options(
                 eta,

@@ -1,8 +1,9 @@
 """Type stubs of stfit's Rust extension (``stfit._stfit``), re-exported by ``stfit``.
 
 Directions are unit vectors in the local frame (+z the macro normal, z > 0 outside with index
-1, z < 0 inside with index ``eta``), given as any array-like of shape ``(..., 3)``; values come
-back with the leading shape, or as a float for a single direction of shape ``(3,)``. A
+1, z < 0 inside with index ``eta``), given as any array-like of shape ``(..., 3)`` of an integer
+or float dtype (booleans, complex numbers and text raise ``ValueError``, not converted); values
+come back with the leading shape, or as a float for a single direction of shape ``(3,)``. A
 direction whose norm differs from 1 by more than 1e-6 raises ``ValueError``.
 """
 
@@ -318,7 +319,7 @@ def report(
     fits.md. Without ``fits``, the four models are fitted first with the options given (as in
     ``fit``: loss "sqrt", log_floor 1e-3, optimizer "nelder-mead", orders "single", walks
     20,000, seed 1, multiple_term "surrogate" where not given). With ``fits`` every fit option
-    raises ValueError: stored fits carry their own. Returns the paths written; non-fatal
+    raises ValueError: stored fits carry their own; so does an empty ``fits``. Returns the paths written; non-fatal
     findings are issued as warnings."""
 
 def export(

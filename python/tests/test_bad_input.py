@@ -168,6 +168,30 @@ def test_predict_in_range_is_unchanged():
     assert all(math.isfinite(v) and v >= 0 for v in values) and values[0] > 0
 
 
+@pytest.mark.parametrize("key, value, text", [
+    ("n_points", 0, "n_points must be at least 1"),
+    ("rmse_sqrt_l", -1.0, "rmse_sqrt_l must be finite and >= 0"),
+    ("eta", 1.01, r"eta is out of range: 1.01 \(the glass of a fit has eta in \[1.05, 3\]\)"),
+    ("log_floor", 5.0, r"log_floor must be in \[1e-12, 1\]"),
+    ("alpha_stderr", -1.0, "alpha_stderr must be finite and > 0"),
+    ("multiple_term", "exact", "multiple_term must be null for orders single"),
+])
+def test_from_json_checks_the_record_as_a_fits_file_does(key, value, text, tmp_path):
+    """FitResult.from_json refuses a record with a number outside its documented range, as
+    read_fits refuses it in a file, where it accepted it (only the model was checked) and
+    fits_json then wrote a file that read_fits refuses."""
+    import json
+
+    record = {**json.loads(_ground_ggx().to_json()), key: value}
+    with pytest.raises(ValueError, match=text):
+        stfit.FitResult.from_json(json.dumps(record))
+    path = tmp_path / "fits.json"
+    path.write_text(json.dumps({"version": 1, "fits": [record]}))
+    with pytest.raises(ValueError, match=text):
+        stfit.read_fits(path)
+    assert stfit.FitResult.from_json(_ground_ggx().to_json()) == _ground_ggx()
+
+
 ROWS = {"sample": ["a", "a", "a"], "theta_i_deg": [0.0, 0.0, 30.0],
         "theta_o_deg": [180.0, 170.0, 190.0], "L": [1.0, 0.5, 0.7]}
 
@@ -344,3 +368,55 @@ def test_report_refuses_fit_options_with_stored_fits(option, tmp_path):
     with pytest.raises(ValueError, match=f"^{name}: does not apply with fits"):
         stfit.report(data, fits, out=tmp_path / "r", **option)
     assert not (tmp_path / "r").exists()
+
+
+@pytest.mark.parametrize("w, dtype", [
+    (np.array([0.0, 0.0, 1.0 + 0.5j]), "complex128"),
+    ([False, False, True], "bool"),
+    (["0", "0", "1"], "<U1"),
+    (np.array([0.0, 0.0, 1.0], dtype=object), "object"),
+])
+@pytest.mark.parametrize("call", [
+    lambda w: stfit.Ggx(0.3).d(w),
+    lambda w: stfit.Ggx(0.3).sample_visible(w),
+    lambda w: stfit.RoughDielectric(stfit.Ggx(0.3), 1.5).eval(UP, w),
+    lambda w: stfit.RoughDielectric(stfit.Ggx(0.3), 1.5).sample(w),
+    lambda w: _walk().albedo(w, walks=10),
+], ids=["d", "sample_visible", "eval", "sample", "albedo"])
+def test_directions_of_other_dtypes_are_refused(call, w, dtype):
+    """Directions must have an integer or float dtype, as load's number columns: complex
+    numbers (whose imaginary part was dropped with only a ComplexWarning), booleans and text
+    (parsed as numbers) raise a ValueError naming the dtype, where they were converted."""
+    with pytest.raises(ValueError, match=rf": not an array of numbers \(an integer or float "
+                                         rf"dtype\), got dtype {dtype}"):
+        call(w)
+
+
+def test_integer_and_float32_directions_are_accepted():
+    """Integer and float32 arrays, lists and non-contiguous views are directions as before."""
+    ndf = stfit.Ggx(0.3)
+    up = ndf.d([0.0, 0.0, 1.0])
+    for w in ([0, 0, 1], np.array([0, 0, 1], dtype=np.uint8), np.array(UP, dtype=np.float32),
+              np.eye(3)[::-1][0]):
+        assert ndf.d(w) == up
+
+
+def test_report_refuses_an_empty_list_of_fits(tmp_path):
+    """report(data, []) raises a ValueError naming fits and writes nothing, as
+    `stfit report --fits` refuses a fits file with no fit, where it drew a report without
+    models."""
+    with pytest.raises(ValueError, match="^fits: holds no fit"):
+        stfit.report(str(EXAMPLE), [], out=tmp_path / "r")
+    assert not (tmp_path / "r").exists()
+
+
+def test_huge_and_tiny_numbers_in_messages_are_short():
+    """A direction or an angle of 1e300 or 5e-324 is named in scientific notation in the
+    message, where its hundreds of digits were written out."""
+    with pytest.raises(ValueError) as e:
+        stfit.Ggx(0.3).sigma([1e300, 5e-324, 0.0])
+    assert "w[0] = [1e300, 5e-324, 0] is not a unit vector (norm inf)" in str(e.value)
+    assert len(str(e.value)) < 200
+    with pytest.raises(ValueError, match=r"^theta_i_deg\[0\] = 1e300 is out of range") as e:
+        _ground_ggx().predict([1e300], [180.0])
+    assert len(str(e.value)) < 200
