@@ -44,21 +44,41 @@ fn parameter(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Parameter> {
 
 /// The fit options of the keyword arguments, checked together (`FitOptions::check`): `eta`
 /// defaults to [`DEFAULT_ETA`] held, `scale` to free, as on the command line, and the walks of
-/// an all-orders fit are checked as `--walks` is ([`check_fit_walks`]), named `walks`.
+/// an all-orders fit are checked as `--walks` is ([`check_fit_walks`]), named `walks`. As on
+/// the command line, an option given where it does not apply is refused rather than ignored:
+/// `walks`, `seed` and `multiple_term` apply to orders 'all' only, `log_floor` to loss 'log'.
 #[allow(clippy::too_many_arguments)]
 fn fit_options(
     eta: Option<&Bound<'_, PyAny>>,
     scale: Option<&Bound<'_, PyAny>>,
     loss: &str,
-    log_floor: f64,
+    log_floor: Option<f64>,
     optimizer: &str,
     masking_name: Option<&str>,
     orders_name: &str,
-    walks: u64,
-    seed: u64,
-    multiple_term: &str,
+    walks: Option<u64>,
+    seed: Option<u64>,
+    multiple_term: Option<&str>,
 ) -> PyResult<FitOptions> {
     let orders = orders(orders_name)?;
+    if orders != ScatteringOrders::All {
+        for (name, given) in [
+            ("walks", walks.is_some()),
+            ("seed", seed.is_some()),
+            ("multiple_term", multiple_term.is_some()),
+        ] {
+            if given {
+                return Err(arg_error(
+                    name,
+                    "applies to orders='all' only (single scattering is analytic)",
+                ));
+            }
+        }
+    }
+    if log_floor.is_some() && loss != "log" {
+        return Err(arg_error("log_floor", "applies to loss='log' only"));
+    }
+    let walks = walks.unwrap_or(DEFAULT_WALKS);
     if orders == ScatteringOrders::All {
         check_fit_walks(walks).map_err(|e| arg_error("walks", e))?;
     }
@@ -79,7 +99,7 @@ fn fit_options(
                 ));
             }
         },
-        log_floor,
+        log_floor: log_floor.unwrap_or(DEFAULT_LOG_FLOOR),
         optimizer: match optimizer {
             "nelder-mead" => Optimizer::NelderMead,
             "lbfgs" => Optimizer::Lbfgs,
@@ -93,8 +113,8 @@ fn fit_options(
         masking,
         orders,
         walks,
-        seed,
-        multiple_term: match multiple_term {
+        seed: seed.unwrap_or(1),
+        multiple_term: match multiple_term.unwrap_or("surrogate") {
             "surrogate" => MultipleTerm::Surrogate,
             "exact" => MultipleTerm::Exact,
             other => {
@@ -134,9 +154,8 @@ fn specs(model: &str, gamma: Option<f64>) -> PyResult<Vec<ModelSpec>> {
 /// sample and model, in sample order then model order.
 #[pyfunction]
 #[pyo3(signature = (data, *, model = "student-t", gamma = None, sample = None, eta = None,
-    scale = None, loss = "sqrt", log_floor = DEFAULT_LOG_FLOOR, optimizer = "nelder-mead",
-    masking = None, orders = "single", walks = DEFAULT_WALKS, seed = 1,
-    multiple_term = "surrogate"))]
+    scale = None, loss = "sqrt", log_floor = None, optimizer = "nelder-mead",
+    masking = None, orders = "single", walks = None, seed = None, multiple_term = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit(
     py: Python<'_>,
@@ -147,13 +166,13 @@ pub fn fit(
     eta: Option<&Bound<'_, PyAny>>,
     scale: Option<&Bound<'_, PyAny>>,
     loss: &str,
-    log_floor: f64,
+    log_floor: Option<f64>,
     optimizer: &str,
     masking: Option<&str>,
     orders: &str,
-    #[pyo3(from_py_with = ints::walks)] walks: u64,
-    #[pyo3(from_py_with = ints::seed)] seed: u64,
-    multiple_term: &str,
+    walks: Option<&Bound<'_, PyAny>>,
+    seed: Option<&Bound<'_, PyAny>>,
+    multiple_term: Option<&str>,
 ) -> PyResult<Vec<PyFitResult>> {
     let specs = specs(model, gamma)?;
     let opts = fit_options(
@@ -164,8 +183,8 @@ pub fn fit(
         optimizer,
         masking,
         orders,
-        walks,
-        seed,
+        walks.map(ints::walks).transpose()?,
+        seed.map(ints::seed).transpose()?,
         multiple_term,
     )?;
     let data = crate::data::load(data, sample)?.0;
@@ -446,7 +465,7 @@ fn angle_list(name: &str, value: Option<&Bound<'_, PyAny>>, default: &str) -> Py
 #[pyfunction]
 #[pyo3(signature = (model, alpha, gamma = None, *, scale = 1.0, noise = 0.0, seed = 1,
     grid = "in-plane", theta_i = None, phi_i = None, theta_o = None, phi_o = None,
-    eta = DEFAULT_ETA, masking = None, orders = "single", walks = DEFAULT_WALKS,
+    eta = DEFAULT_ETA, masking = None, orders = "single", walks = None,
     sample = "synthetic", out = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn synth(
@@ -465,7 +484,7 @@ pub fn synth(
     eta: f64,
     masking: Option<&str>,
     orders: &str,
-    #[pyo3(from_py_with = ints::walks)] walks: u64,
+    walks: Option<&Bound<'_, PyAny>>,
     sample: &str,
     out: Option<PathBuf>,
 ) -> PyResult<PyDataset> {
@@ -500,6 +519,15 @@ pub fn synth(
         .masking(masking.map(crate::bsdf::masking).transpose()?)
         .map_err(|e| arg_error("masking", e))?;
     let all = orders == ScatteringOrders::All;
+    let walks = match walks.map(ints::walks).transpose()? {
+        Some(_) if !all => {
+            return Err(arg_error(
+                "walks",
+                "applies to orders='all' only (single scattering is analytic)",
+            ));
+        }
+        given => given.unwrap_or(DEFAULT_WALKS),
+    };
     let spec = SynthSpec {
         model: Model {
             kind,
@@ -621,13 +649,13 @@ pub fn report(
                 eta,
                 scale,
                 loss.unwrap_or("sqrt"),
-                log_floor.unwrap_or(DEFAULT_LOG_FLOOR),
+                log_floor,
                 optimizer.unwrap_or("nelder-mead"),
                 masking,
                 orders.unwrap_or("single"),
-                walks.map_or(Ok(DEFAULT_WALKS), ints::walks)?,
-                seed.map_or(Ok(1), ints::seed)?,
-                multiple_term.unwrap_or("surrogate"),
+                walks.map(ints::walks).transpose()?,
+                seed.map(ints::seed).transpose()?,
+                multiple_term,
             )?;
             py.detach(|| fit_dataset(&data, &all_models(), &fit_opts, &|_, _| {}))
                 .map_err(|e| fit_error(py, &e))?

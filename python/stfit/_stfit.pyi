@@ -246,23 +246,26 @@ def fit(
     eta: Union[float, str, None] = None,
     scale: Union[float, str, None] = None,
     loss: str = "sqrt",
-    log_floor: float = 1e-3,
+    log_floor: Optional[float] = None,
     optimizer: str = "nelder-mead",
     masking: Optional[str] = None,
     orders: str = "single",
-    walks: int = 20_000,
-    seed: int = 1,
-    multiple_term: str = "surrogate",
+    walks: Optional[int] = None,
+    seed: Optional[int] = None,
+    multiple_term: Optional[str] = None,
 ) -> list[FitResult]:
     """Fits ``model`` ('beckmann', 'ggx', 'student-t' or 'all': the four models Beckmann, GGX,
     Student-T with gamma = 3 and with gamma free) to every sample, with the command line's
     options and defaults: ``eta`` 1.51 (a number or 'free'), ``scale`` 'free' (or a number to
-    hold it at, at least 2.2e-308), ``log_floor`` of ``loss`` 'log' in [1e-12, 1],
-    ``orders`` 'single' or 'all' (the random walk's orders >= 2 added, ``walks`` per incidence,
-    in [2, 1e9], from ``seed``; ``multiple_term`` 'surrogate' interpolates that term between a few walk
-    sets while searching, 'exact' walks at every evaluation), ``masking`` separable for single
-    scattering. Raises ValueError for bad
-    options, LoadError for bad data, FitError for a fit that cannot be made."""
+    hold it at, at least 2.2e-308), ``log_floor`` of ``loss`` 'log' in [1e-12, 1] (default
+    1e-3), ``orders`` 'single' or 'all' (the random walk's orders >= 2 added, ``walks`` per
+    incidence, in [2, 1e9], default 20,000, from ``seed``, default 1; ``multiple_term``
+    'surrogate', the default, interpolates that term between a few walk sets while searching,
+    'exact' walks at every evaluation), ``masking`` separable for single scattering. As on the
+    command line, an option given where it does not apply raises ValueError rather than being
+    ignored: ``walks``, ``seed`` and ``multiple_term`` apply to orders 'all' only, ``log_floor``
+    to loss 'log' only. Raises ValueError for bad options, LoadError for bad data, FitError for
+    a fit that cannot be made."""
 
 def table(fits: Sequence[FitResult]) -> str:
     """The fits as the text table ``stfit DATA`` prints."""
@@ -289,14 +292,15 @@ def synth(
     eta: float = 1.51,
     masking: Optional[str] = None,
     orders: str = "single",
-    walks: int = 20_000,
+    walks: Optional[int] = None,
     sample: str = "synthetic",
     out: Optional[PathLike] = None,
 ) -> Dataset:
     """Synthetic measurements of known truth (``stfit synth``): the model on an angle grid
     ('in-plane': L, or 'general': the BSDF on both sides) with noise max(0, v (1 + noise z)),
     written as CSV to ``out`` when given. Angle lists are sequences or the command line's text
-    ('0,30,60', '106:254:2')."""
+    ('0,30,60', '106:254:2'). ``walks`` (per incidence, default 20,000) applies to orders 'all'
+    only; given with orders 'single' it raises ValueError."""
 
 def report(
     data: DataSource,

@@ -53,6 +53,35 @@ def test_options_reach_the_library_as_on_the_command_line(at_repo, cli):
     assert_same_record(fits[0].to_dict(), theirs[0])
 
 
+@pytest.mark.parametrize("call, name", [
+    (lambda out: stfit.fit(str(EXAMPLE), model="ggx", walks=2000), "walks"),
+    (lambda out: stfit.fit(str(EXAMPLE), model="ggx", seed=3), "seed"),
+    (lambda out: stfit.fit(str(EXAMPLE), model="ggx", multiple_term="exact"), "multiple_term"),
+    (lambda out: stfit.fit(str(EXAMPLE), model="ggx", log_floor=0.01), "log_floor"),
+    (lambda out: stfit.fit(str(EXAMPLE), model="ggx", loss="linear", log_floor=0.01),
+     "log_floor"),
+    (lambda out: stfit.report(str(EXAMPLE), out=out, walks=2000), "walks"),
+    (lambda out: stfit.synth("ggx", 0.3, walks=2000), "walks"),
+])
+def test_options_that_do_not_apply_are_refused(call, name, tmp_path):
+    """As on the command line, walk options with single scattering and a log floor with
+    another loss raise ValueError naming the option rather than being ignored."""
+    with pytest.raises(ValueError, match=f"^{name}: applies to "):
+        call(tmp_path / "report")
+    assert not (tmp_path / "report").exists()
+
+
+def test_options_that_apply_are_taken():
+    """The same options where they apply: walks and seed with orders 'all', the floor with the
+    log loss (the floor changes the fit; omitted, it is the command line's 1e-3)."""
+    stfit.synth("ggx", 0.3, orders="all", walks=64, theta_i=[30], theta_o=[200])
+    default = stfit.fit(str(EXAMPLE), model="ggx", sample="etched", loss="log")[0]
+    same = stfit.fit(str(EXAMPLE), model="ggx", sample="etched", loss="log", log_floor=1e-3)[0]
+    other = stfit.fit(str(EXAMPLE), model="ggx", sample="etched", loss="log", log_floor=0.1)[0]
+    assert default.to_dict() == same.to_dict()
+    assert other.log_floor == 0.1 and other.alpha != default.alpha
+
+
 def test_table_is_the_cli_table(at_repo, cli):
     fits = stfit.fit("fits/example.csv", model="all")
     assert stfit.table(fits) == cli("fits/example.csv", "--model", "all")
