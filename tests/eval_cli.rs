@@ -509,3 +509,25 @@ fn empty_stdin_names_the_pair_header() {
     assert!(e.contains("'wi_x,wi_y,wi_z,wo_x,wo_y,wo_z'"), "{e}");
     assert!(!e.contains("sqrt_L"), "{e}");
 }
+
+/// A direction far from unit length names its norm in a few digits: not `inf` where the squares
+/// overflow, not `0` where they underflow, not 300 digits.
+#[test]
+fn not_unit_messages_show_the_norm_briefly() {
+    for (row, norm) in [
+        ("1e300,0,0,0,0,1", "norm 1e300"),
+        ("0,-1e200,0,0,0,1", "norm 1e200"),
+        ("1e150,0,0,0,0,1", "norm 1e150"),
+        ("1e-300,0,0,0,0,1", "norm 1e-300"),
+        ("1.5e308,1.5e308,1.5e308,0,0,1", "norm above 1.8e308"),
+    ] {
+        let out = run(&GGX, &format!("{HEADER}\n{row}\n"));
+        assert_eq!(out.code, Some(1), "{row}: {}", out.stderr);
+        assert!(
+            out.stderr.contains("<stdin>:2") && out.stderr.contains(norm),
+            "{row}: {}",
+            out.stderr
+        );
+        assert!(out.stderr.len() < 200, "{row}: {}", out.stderr);
+    }
+}
