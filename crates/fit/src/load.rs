@@ -201,6 +201,13 @@ pub enum LoadErrorKind {
         show_norm(*.norm)
     )]
     NotUnit { norm: f64, tolerance: f64 },
+    /// A direction's `z` that is subnormal: `1 / |z|` in the BSDF overflows.
+    #[error(
+        "{} is below the normal range of doubles (2.2e-308): the BSDF divides by it; give 0 for \
+         a direction on the horizon",
+        show(*.0)
+    )]
+    SubnormalZ(f64),
     /// The CSV structure itself is broken.
     #[error("malformed CSV: {0}")]
     Csv(String),

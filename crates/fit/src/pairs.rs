@@ -151,6 +151,15 @@ pub fn read_pairs(source: &Path, bytes: &[u8]) -> Result<PairTable, LoadError> {
         };
         let wi = unit(Vec3::new(v[0], v[1], v[2]), "wi_x, wi_y, wi_z")?;
         let wo = unit(Vec3::new(v[3], v[4], v[5]), "wo_x, wo_y, wo_z")?;
+        for k in [2, 5] {
+            if v[k] != 0.0 && v[k].abs() < f64::MIN_POSITIVE {
+                return Err(err(
+                    Some(line),
+                    Some(PAIR_COLUMNS[k]),
+                    LoadErrorKind::SubnormalZ(v[k]),
+                ));
+            }
+        }
         pairs.push((wi, wo));
         rows.push(fields.into_iter().map(str::to_owned).collect());
     }
