@@ -509,3 +509,56 @@ fn empty_stdin_names_the_pair_header() {
     assert!(e.contains("'wi_x,wi_y,wi_z,wo_x,wo_y,wo_z'"), "{e}");
     assert!(!e.contains("sqrt_L"), "{e}");
 }
+
+/// A direction far from unit length names its norm in a few digits: not `inf` where the squares
+/// overflow, not `0` where they underflow, not 300 digits.
+#[test]
+fn not_unit_messages_show_the_norm_briefly() {
+    for (row, norm) in [
+        ("1e300,0,0,0,0,1", "norm 1e300"),
+        ("0,-1e200,0,0,0,1", "norm 1e200"),
+        ("1e150,0,0,0,0,1", "norm 1e150"),
+        ("1e-300,0,0,0,0,1", "norm 1e-300"),
+        ("1.5e308,1.5e308,1.5e308,0,0,1", "norm above 1.8e308"),
+    ] {
+        let out = run(&GGX, &format!("{HEADER}\n{row}\n"));
+        assert_eq!(out.code, Some(1), "{row}: {}", out.stderr);
+        assert!(
+            out.stderr.contains("<stdin>:2") && out.stderr.contains(norm),
+            "{row}: {}",
+            out.stderr
+        );
+        assert!(out.stderr.len() < 200, "{row}: {}", out.stderr);
+    }
+}
+
+/// A direction whose `z` is subnormal (a unit vector to the tolerance) is refused naming its
+/// line and column: the BSDF's `1 / |z|` overflowed, and eval failed with 'row 1: the BSDF
+/// value is not finite', naming neither the input nor its line.
+#[test]
+fn subnormal_z_names_line_and_column() {
+    for (row, column) in [
+        ("1,0,1e-320,0,0,1", "column 'wi_z'"),
+        ("0,0,1,-1,0,-5e-324", "column 'wo_z'"),
+        ("1,0,1e-308,0,0,-1", "column 'wi_z'"),
+    ] {
+        for orders in ["single", "all"] {
+            let mut args = GGX.to_vec();
+            args.extend(["--orders", orders]);
+            if orders == "all" {
+                args.extend(["--walks", "100"]);
+            }
+            let out = run(&args, &format!("{HEADER}\n0,0,1,0,0,-1\n{row}\n"));
+            assert_eq!(out.code, Some(1), "{row}: {}", out.stderr);
+            for needle in ["<stdin>:3", column, "below the normal range"] {
+                assert!(out.stderr.contains(needle), "{row}: {}", out.stderr);
+            }
+        }
+    }
+    // The smallest normal z and an exact 0 (the horizon) are evaluated.
+    let out = run(
+        &GGX,
+        &format!("{HEADER}\n1,0,2.2250738585072014e-308,0,0,1\n1,0,0,0,0,1\n"),
+    );
+    assert_eq!(out.code, Some(0), "{}", out.stderr);
+}

@@ -799,3 +799,38 @@ fn subnormal_data_are_refused() {
         .to_string();
     assert!(e.contains("below the normal range of doubles"), "{e}");
 }
+
+/// `--append` to something that is not a regular file is refused at once: with /dev/full,
+/// whose reads never end, the header check read it until the process was killed for memory.
+#[cfg(unix)]
+#[test]
+fn synth_append_to_a_device_is_refused() {
+    for target in ["/dev/full", "/dev/null"] {
+        if !std::path::Path::new(target).exists() {
+            continue;
+        }
+        let out = stfit(&[
+            "synth", "--model", "ggx", "--alpha", "0.2", "--out", target, "--append",
+        ]);
+        assert_eq!(out.code, Some(1), "{target}: {}", out.stderr);
+        assert!(
+            out.stderr
+                .contains(&format!("{target}: cannot append: not a regular file")),
+            "{target}: {}",
+            out.stderr
+        );
+    }
+    let dir = CaseDir::new("append-folder");
+    let out = stfit(&[
+        "synth",
+        "--model",
+        "ggx",
+        "--alpha",
+        "0.2",
+        "--out",
+        p(dir.path()),
+        "--append",
+    ]);
+    assert_eq!(out.code, Some(1), "{}", out.stderr);
+    assert!(out.stderr.contains("not a regular file"), "{}", out.stderr);
+}

@@ -196,8 +196,18 @@ pub enum LoadErrorKind {
     #[error("is written by stfit; the input must not have it")]
     Reserved,
     /// A direction that is not a unit vector.
-    #[error("not a unit vector (norm {norm}); directions must have |norm - 1| <= {tolerance:e}")]
+    #[error(
+        "not a unit vector (norm {}); directions must have |norm - 1| <= {tolerance:e}",
+        show_norm(*.norm)
+    )]
     NotUnit { norm: f64, tolerance: f64 },
+    /// A direction's `z` that is subnormal: `1 / |z|` in the BSDF overflows.
+    #[error(
+        "{} is below the normal range of doubles (2.2e-308): the BSDF divides by it; give 0 for \
+         a direction on the horizon",
+        show(*.0)
+    )]
+    SubnormalZ(f64),
     /// The CSV structure itself is broken.
     #[error("malformed CSV: {0}")]
     Csv(String),
@@ -211,6 +221,16 @@ pub enum LoadErrorKind {
     /// An in-memory column whose length differs from the first column's.
     #[error("has {found} rows, the first column {expected}")]
     ColumnLength { found: usize, expected: usize },
+}
+
+/// The norm of a [`LoadErrorKind::NotUnit`] direction for its message: [`show`]n, and said to
+/// be above the largest double rather than printed as infinity.
+fn show_norm(norm: f64) -> String {
+    if norm.is_finite() {
+        show(norm)
+    } else {
+        "above 1.8e308".to_owned()
+    }
 }
 
 impl LoadError {

@@ -30,6 +30,14 @@ pub fn is_unit_norm(norm: f64) -> bool {
     (norm - 1.0).abs() <= UNIT_TOLERANCE
 }
 
+/// `|w|` without the overflow or underflow of its squares (`|(1e200, 0, 0)|` is 1e200, not
+/// infinity; `|(1e-200, 0, 0)|` is 1e-200, not 0), for messages: infinite only above the
+/// largest double.
+fn scaled_norm(w: Vec3) -> f64 {
+    let m = w.amax();
+    if m == 0.0 { 0.0 } else { m * (w / m).norm() }
+}
+
 /// A table of direction pairs: its header and rows as read (trimmed fields), and the pairs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PairTable {
@@ -128,13 +136,12 @@ pub fn read_pairs(source: &Path, bytes: &[u8]) -> Result<PairTable, LoadError> {
                 .map_err(|kind| err(Some(line), Some(&header[i]), kind))?;
         }
         let unit = |w: Vec3, name: &str| {
-            let norm = w.norm();
-            if !is_unit_norm(norm) {
+            if !is_unit_norm(w.norm()) {
                 Err(err(
                     Some(line),
                     Some(name),
                     LoadErrorKind::NotUnit {
-                        norm,
+                        norm: scaled_norm(w),
                         tolerance: UNIT_TOLERANCE,
                     },
                 ))
@@ -144,6 +151,15 @@ pub fn read_pairs(source: &Path, bytes: &[u8]) -> Result<PairTable, LoadError> {
         };
         let wi = unit(Vec3::new(v[0], v[1], v[2]), "wi_x, wi_y, wi_z")?;
         let wo = unit(Vec3::new(v[3], v[4], v[5]), "wo_x, wo_y, wo_z")?;
+        for k in [2, 5] {
+            if v[k] != 0.0 && v[k].abs() < f64::MIN_POSITIVE {
+                return Err(err(
+                    Some(line),
+                    Some(PAIR_COLUMNS[k]),
+                    LoadErrorKind::SubnormalZ(v[k]),
+                ));
+            }
+        }
         pairs.push((wi, wo));
         rows.push(fields.into_iter().map(str::to_owned).collect());
     }

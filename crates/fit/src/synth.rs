@@ -263,8 +263,9 @@ impl SynthSpec {
 }
 
 /// Writes `samples` with `comment` to the file at `path`: replacing it, or with `append`
-/// adding the rows to it (creating it if needed; an existing file must start with the header
-/// [`write_csv`] writes, read by the loader's rules, and end with a line break).
+/// adding the rows to it (creating it if needed; an existing file must be a regular file,
+/// start with the header [`write_csv`] writes, read by the loader's rules, and end with a line
+/// break).
 pub fn write_file(
     path: &Path,
     samples: &[Sample],
@@ -273,6 +274,16 @@ pub fn write_file(
 ) -> Result<(), SynthError> {
     let display = path.display().to_string();
     let header = !append || !path.exists();
+    if !header && !path.is_file() {
+        // A device or a pipe would be read to its end to check the header: /dev/full never
+        // ends.
+        return Err(SynthError::Append {
+            path: display,
+            reason: "not a regular file (a folder, a device or a pipe): --append adds rows to \
+                     a CSV file"
+                .into(),
+        });
+    }
     if !header {
         let expected = csv_header(samples)?.join(",");
         match read_header(path)? {
