@@ -23,11 +23,14 @@ pub const STDERR_COLUMN: &str = "f_cos_stderr";
 /// Largest accepted `| |w| - 1 |`: directions are checked, never silently normalised.
 pub const UNIT_TOLERANCE: f64 = 1e-6;
 
-/// True for the norm of a unit vector: `|norm - 1| <= UNIT_TOLERANCE` (false for NaN). The one
-/// test of the library's unit-direction precondition, for files and for arrays.
+/// True for the norm of a unit vector: `|norm - 1| <= UNIT_TOLERANCE` up to the rounding of
+/// decimal input (false for NaN): a few units in the last place of 1 are forgiven, so that
+/// `(0, 0, 0.999999)`, whose binary norm is 1 - 1.00000000003e-6, is accepted as the tolerance
+/// reads in decimal. The one test of the library's unit-direction precondition, for files and
+/// for arrays.
 #[inline]
 pub fn is_unit_norm(norm: f64) -> bool {
-    (norm - 1.0).abs() <= UNIT_TOLERANCE
+    (norm - 1.0).abs() <= UNIT_TOLERANCE + 4.0 * f64::EPSILON
 }
 
 /// `|w|` without the overflow or underflow of its squares (`|(1e200, 0, 0)|` is 1e200, not
@@ -222,6 +225,18 @@ pub fn format_number(x: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The tolerance reads as written in decimal: norms of 1 -/+ 1e-6 typed in decimal are
+    /// accepted, one digit further out is refused.
+    #[test]
+    fn the_unit_tolerance_holds_at_its_decimal_ends() {
+        for norm in [0.999999, 1.000001, 1.0, 1.0 - 5e-7] {
+            assert!(is_unit_norm(norm), "{norm}");
+        }
+        for norm in [0.9999989, 1.0000011, f64::NAN, 0.0] {
+            assert!(!is_unit_norm(norm), "{norm}");
+        }
+    }
 
     fn read(text: &str) -> Result<PairTable, LoadError> {
         read_pairs(Path::new("<stdin>"), text.as_bytes())
