@@ -415,8 +415,23 @@ def test_huge_and_tiny_numbers_in_messages_are_short():
     message, where its hundreds of digits were written out."""
     with pytest.raises(ValueError) as e:
         stfit.Ggx(0.3).sigma([1e300, 5e-324, 0.0])
-    assert "w[0] = [1e300, 5e-324, 0] is not a unit vector (norm inf)" in str(e.value)
+    assert "w[0] = [1e300, 5e-324, 0] is not a unit vector (norm 1e300)" in str(e.value)
     assert len(str(e.value)) < 200
     with pytest.raises(ValueError, match=r"^theta_i_deg\[0\] = 1e300 is out of range") as e:
         _ground_ggx().predict([1e300], [180.0])
     assert len(str(e.value)) < 200
+
+
+@pytest.mark.parametrize("wi, wo, name", [
+    ([1.0, 0.0, 1e-320], [0.0, 0.0, 1.0], "wi"),
+    ([0.0, 0.0, 1.0], [1.0, 0.0, -5e-324], "wo"),
+])
+def test_a_subnormal_z_is_refused_not_evaluated_to_nan(wi, wo, name):
+    """A unit direction whose z is subnormal (nonzero, below 2.2e-308) is refused, naming the
+    argument, as `stfit eval` refuses it: the BSDF divides by |z|, and had returned NaN."""
+    for call in (lambda: stfit.RoughDielectric(stfit.Ggx(0.3), 1.5).eval(wi, wo),
+                 lambda: stfit.Microsurface(stfit.Ggx(0.3), 1.5).eval(wi, wo, walks=16)):
+        with pytest.raises(ValueError, match=rf"^{name}\[0\] = .*below the normal range"):
+            call()
+    with pytest.raises(ValueError, match="above 1.8e308"):
+        stfit.Ggx(0.3).sigma([1.5e308, 1.5e308, 0.0])

@@ -223,9 +223,10 @@ pub enum LoadErrorKind {
     ColumnLength { found: usize, expected: usize },
 }
 
-/// The norm of a [`LoadErrorKind::NotUnit`] direction for its message: [`show`]n, and said to
-/// be above the largest double rather than printed as infinity.
-fn show_norm(norm: f64) -> String {
+/// The norm of a direction that is not a unit vector, for a message: [`show`]n, and said to
+/// be above the largest double rather than printed as infinity (compute it with
+/// [`crate::pairs::scaled_norm`], which overflows only there).
+pub fn show_norm(norm: f64) -> String {
     if norm.is_finite() {
         show(norm)
     } else {

@@ -33,10 +33,17 @@ pub fn is_unit_norm(norm: f64) -> bool {
     (norm - 1.0).abs() <= UNIT_TOLERANCE + 4.0 * f64::EPSILON
 }
 
+/// True for a direction's `z` that is subnormal (nonzero and below 2.2e-308 in magnitude):
+/// the BSDF divides by `|z|` and overflows, so such a direction is refused (0 is the horizon).
+#[inline]
+pub fn is_subnormal_z(z: f64) -> bool {
+    z != 0.0 && z.abs() < f64::MIN_POSITIVE
+}
+
 /// `|w|` without the overflow or underflow of its squares (`|(1e200, 0, 0)|` is 1e200, not
 /// infinity; `|(1e-200, 0, 0)|` is 1e-200, not 0), for messages: infinite only above the
 /// largest double.
-fn scaled_norm(w: Vec3) -> f64 {
+pub fn scaled_norm(w: Vec3) -> f64 {
     let m = w.amax();
     if m == 0.0 { 0.0 } else { m * (w / m).norm() }
 }
@@ -155,7 +162,7 @@ pub fn read_pairs(source: &Path, bytes: &[u8]) -> Result<PairTable, LoadError> {
         let wi = unit(Vec3::new(v[0], v[1], v[2]), "wi_x, wi_y, wi_z")?;
         let wo = unit(Vec3::new(v[3], v[4], v[5]), "wo_x, wo_y, wo_z")?;
         for k in [2, 5] {
-            if v[k] != 0.0 && v[k].abs() < f64::MIN_POSITIVE {
+            if is_subnormal_z(v[k]) {
                 return Err(err(
                     Some(line),
                     Some(PAIR_COLUMNS[k]),
