@@ -344,3 +344,27 @@ fn invalid_synth_flags() {
     assert_eq!(out.code, Some(2));
     assert!(out.stderr.clone().contains("alpha must be in [1e-8, 100]"));
 }
+
+/// An input that is a device is refused before it is read, by every reader of files: `/dev/zero`
+/// never ends, and reading it whole had exhausted memory (exit 137).
+#[cfg(unix)]
+#[test]
+fn a_device_as_input_is_refused_before_it_is_read() {
+    let dir = CaseDir::new("device-input");
+    let out = dir.join("out");
+    let out = out.to_str().unwrap();
+    for args in [
+        vec!["/dev/zero"],
+        vec!["report", "/dev/zero", "--out", out],
+        vec!["export", "/dev/zero", "--to", "mitsuba3", "--out", out],
+        vec!["tables", "merge", "/dev/zero", "--out", out],
+    ] {
+        let run = stfit(&args);
+        assert_eq!(run.code, Some(1), "{args:?}: {}", run.stderr);
+        assert!(
+            run.stderr.contains("/dev/zero") && run.stderr.contains("not a file or a pipe"),
+            "{args:?}: {}",
+            run.stderr
+        );
+    }
+}

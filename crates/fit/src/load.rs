@@ -302,7 +302,7 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
     // Each sample with the file and line of its first row, to place a sample-wide error.
     let mut samples: Vec<(Sample, &Path, Option<u64>)> = Vec::new();
     for file in &files {
-        let bytes = std::fs::read(file).map_err(|e| io(file, e))?;
+        let bytes = read_input(file).map_err(|e| io(file, e))?;
         let parts = if crate::pabopto::is_pabopto(&bytes) {
             let (name, points) = crate::pabopto::read_pabopto(file, &bytes)?;
             vec![(Sample { name, points }, None)]
@@ -578,10 +578,35 @@ pub(crate) fn text_fields<'r>(
         .collect()
 }
 
+/// The bytes of the input file at `path`, read whole: a regular file or a pipe (`<(...)`,
+/// `/dev/stdin`). A device or a socket is refused with an [`std::io::ErrorKind::InvalidInput`]
+/// error before anything is read: `/dev/zero` or `/dev/full` never ends, and reading one had
+/// exhausted memory.
+pub fn read_input(path: &Path) -> std::io::Result<Vec<u8>> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let kind = std::fs::metadata(path)?.file_type();
+        if kind.is_char_device() || kind.is_block_device() || kind.is_socket() {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "not a file or a pipe (a device or a socket)",
+            ));
+        }
+    }
+    std::fs::read(path)
+}
+
+/// The text of the input file at `path` ([`read_input`]), which must be UTF-8.
+pub fn read_input_text(path: &Path) -> std::io::Result<String> {
+    String::from_utf8(read_input(path)?)
+        .map_err(|_| std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text"))
+}
+
 /// The header of the file at `path` (its first record, as [`read_records`] reads it) with its
 /// line, or `None` for a file with none.
 pub fn read_header(path: &Path) -> Result<Option<(u64, Vec<String>)>, LoadError> {
-    let bytes = std::fs::read(path)
+    let bytes = read_input(path)
         .map_err(|e| LoadError::new(path, None, None, LoadErrorKind::Io(e.to_string())))?;
     let Some((line, record)) = read_records(path, &bytes)?.into_iter().next() else {
         return Ok(None);

@@ -400,7 +400,7 @@ fn first_unreadable_fit(file: &serde_json::Value) -> Option<(usize, String)> {
 
 /// The text of a fits file.
 fn read_text(path: &Path) -> Result<String, FitsFileError> {
-    std::fs::read_to_string(path).map_err(|source| FitsFileError::Io {
+    crate::load::read_input_text(path).map_err(|source| FitsFileError::Io {
         path: path.display().to_string(),
         source,
     })
