@@ -368,3 +368,42 @@ fn a_device_as_input_is_refused_before_it_is_read() {
         );
     }
 }
+
+/// An output folder that is an existing file is refused in words by every command that writes
+/// a folder (`export --out DIR/`, `report --out`, `synth --pabopto`): it had said only 'File
+/// exists'.
+#[test]
+fn an_output_folder_that_is_a_file_is_named_as_such() {
+    let dir = CaseDir::new("folder-is-a-file");
+    let file = dir.join("taken");
+    std::fs::write(&file, "x").unwrap();
+    let file = file.to_str().unwrap();
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/fits/example.csv");
+    let fits = concat!(env!("CARGO_MANIFEST_DIR"), "/fits/example-fits.json");
+    let slashed = format!("{file}/");
+    for args in [
+        vec!["export", fits, "--to", "mitsuba3", "--out", &slashed],
+        vec!["report", example, "--out", file],
+        vec![
+            "synth",
+            "--model",
+            "ggx",
+            "--alpha",
+            "0.3",
+            "--grid",
+            "general",
+            "--pabopto",
+            "dsf",
+            "--out",
+            file,
+        ],
+    ] {
+        let run = stfit(&args);
+        assert_eq!(run.code, Some(1), "{args:?}: {}", run.stderr);
+        assert!(
+            run.stderr.contains("taken") && run.stderr.contains("exists and is not a folder"),
+            "{args:?}: {}",
+            run.stderr
+        );
+    }
+}

@@ -171,7 +171,7 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
                 .to_string_lossy()
                 .ends_with(std::path::MAIN_SEPARATOR) =>
         {
-            std::fs::create_dir_all(p)
+            stfit_fit::synth::create_folder(p)
                 .map_err(|e| failed(format!("{}: cannot create the folder: {e}", p.display())))?;
             Destination::Folder(p)
         }
