@@ -508,3 +508,59 @@ fn radiance_needs_two_walks_per_patch() {
     let xml = std::fs::read_to_string(&out).unwrap();
     assert!(xml.contains("Monte Carlo: 4 cosine-weighted incident directions per patch"));
 }
+
+/// A Radiance export whose walks will take long says so before it starts (as `eval` and
+/// `albedo` do): 1e9 walks per patch announce hours, read from stderr while the run goes on,
+/// which the test then stops. The default export says nothing.
+#[test]
+fn a_long_radiance_export_is_announced_before_it_runs() {
+    use std::io::{BufRead, BufReader};
+    let dir = CaseDir::new("export-long-run");
+    let out = format!("{}/", dir.join("out").display());
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_stfit"))
+        .args([
+            "export",
+            &example_fits(),
+            "--to",
+            "radiance",
+            "--sample",
+            "frosted",
+            "--model",
+            "ggx",
+            "--walks",
+            "1000000000",
+            "--out",
+            &out,
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stderr.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        line.starts_with("note: the random walks of this export (1000000000 per Klems patch)")
+            && (line.contains(" h (fewer --walks") || line.contains(" days (fewer --walks")),
+        "{line}"
+    );
+    let quick = cli().run(&[
+        "export",
+        &example_fits(),
+        "--to",
+        "radiance",
+        "--sample",
+        "frosted",
+        "--model",
+        "ggx",
+        "--layer",
+        "interface",
+        "--out",
+        &out,
+    ]);
+    assert_eq!(quick.code, Some(0), "{}", quick.stderr);
+    assert!(!quick.stderr.contains("note:"), "{}", quick.stderr);
+}

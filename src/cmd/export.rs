@@ -5,9 +5,11 @@
 use std::path::PathBuf;
 
 use clap::{Args as ClapArgs, ValueEnum};
+use stfit_core::walk::{LONG_RUN_SECONDS, describe_seconds};
 use stfit_export::radiance::{DEFAULT_WALKS_PER_PATCH, LayerKind, QuadratureRule, RadianceOptions};
 use stfit_export::{
-    BatchError, Destination, FitExport, Selection, Target, export_fits, radiance_walks_apply,
+    BatchError, Destination, FitExport, Selection, Target, export_fits, radiance_walk_seconds,
+    radiance_walks_apply,
 };
 use stfit_fit::{FitsFile, ModelKind};
 
@@ -177,6 +179,17 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
         }
         Some(p) => Destination::File(p),
     };
+    if target == Target::Radiance {
+        let seconds = radiance_walk_seconds(&file.fits, &selection, &radiance);
+        if seconds > LONG_RUN_SECONDS {
+            eprintln!(
+                "note: the random walks of this export ({} per Klems patch) will take about {} \
+                 (fewer --walks make it shorter)",
+                radiance.walks_per_patch,
+                describe_seconds(seconds)
+            );
+        }
+    }
     let batch =
         export_fits(&file.fits, &selection, target, &radiance, dest).map_err(|e| match e {
             BatchError::OneFilePerFit => usage(

@@ -10,7 +10,10 @@ use thiserror::Error;
 use stfit_core::walk::ScatteringOrders;
 
 use crate::radiance::{LayerKind, RadianceOptions};
-use crate::{Export, ExportError, Selection, Target, export_fit, file_name, fit_identifier, join};
+use crate::{
+    Export, ExportError, ExportModel, Selection, Target, export_fit, file_name, fit_identifier,
+    join,
+};
 
 /// Where the files of an export go.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -134,6 +137,21 @@ pub fn radiance_walks_apply(fits: &[FitResult], selection: &Selection, layer: La
     layer == LayerKind::Pane
         || selected.peek().is_none()
         || selected.any(|f| f.model.orders == ScatteringOrders::All)
+}
+
+/// Estimated wall time, in seconds, of the random walks of the Radiance export of the fits
+/// `selection` picks ([`crate::radiance::walk_seconds`], summed over the fits), for a note
+/// before a long run. A fit that cannot be exported counts 0: [`export_fits`] reports it.
+pub fn radiance_walk_seconds(
+    fits: &[FitResult],
+    selection: &Selection,
+    radiance: &RadianceOptions,
+) -> f64 {
+    fits.iter()
+        .filter(|f| selection.matches(f))
+        .filter_map(|f| ExportModel::from_fit(f).ok())
+        .map(|m| crate::radiance::walk_seconds(&m, radiance).unwrap_or(0.0))
+        .sum()
 }
 
 /// Refuses two fits with the same identifier ([`BatchError::SameName`]).

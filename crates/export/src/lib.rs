@@ -30,7 +30,8 @@ pub mod targets;
 pub mod translate;
 
 pub use batch::{
-    Batch, BatchError, Destination, FitExport, Output, export_fits, radiance_walks_apply,
+    Batch, BatchError, Destination, FitExport, Output, export_fits, radiance_walk_seconds,
+    radiance_walks_apply,
 };
 pub use error::ExportError;
 pub use model::ExportModel;

@@ -190,10 +190,17 @@ pub fn blocks_from_sums(sums: &[BlockSums]) -> [Block; 4] {
     })
 }
 
+/// The side of the square grid of stratified walks that stands for `n` walks per patch: the
+/// walks actually run are its square, `n` rounded up to a square (at least 1).
+pub fn strata_per_side(n: u64) -> u64 {
+    (n as f64).sqrt().ceil().max(1.0) as u64
+}
+
 /// Monte Carlo estimates of every incident patch's exit fluxes with `n` walks per patch
-/// (rounded up to a square), deterministic for a given `seed` whatever the number of threads.
+/// (rounded up to a square, [`strata_per_side`]), deterministic for a given `seed` whatever the
+/// number of threads.
 pub fn monte_carlo_sums<L: Layer>(layer: &L, n: u64, seed: u64) -> (Vec<BlockSums>, u64) {
-    let m = (n as f64).sqrt().ceil().max(1.0) as u64;
+    let m = strata_per_side(n);
     let n = m * m;
     let nf = n as f64;
     let jobs: Vec<(usize, usize)> = (0..2)

@@ -158,6 +158,39 @@ pub fn klems(
     }
 }
 
+/// Walks per patch of the pilot run of [`walk_seconds`].
+const PILOT_WALKS_PER_PATCH: u64 = 256;
+
+/// Estimated wall time, in seconds, of the random walks of [`klems`] for `model` under `opts`
+/// on rayon's current pool, for a note before a long export: 0 where the layer has no walks
+/// (the interface of a single-scattering fit) and where the run has at most 16 times the walks
+/// of a pilot of [`PILOT_WALKS_PER_PATCH`] per patch; otherwise the wall time of that pilot
+/// (random numbers of its own; the export is unchanged) scaled by the ratio of walks.
+pub fn walk_seconds(model: &ExportModel, opts: &RadianceOptions) -> Result<f64, ExportError> {
+    opts.check()?;
+    let run = matrices::strata_per_side(opts.walks_per_patch).pow(2);
+    let walks_in_interface = model.model.orders == ScatteringOrders::All;
+    if run <= 16 * PILOT_WALKS_PER_PATCH
+        || (opts.layer == LayerKind::Interface && !walks_in_interface)
+    {
+        return Ok(0.0);
+    }
+    fn timed<L: Layer>(layer: &L, seed: u64) -> f64 {
+        let start = std::time::Instant::now();
+        monte_carlo_sums(layer, PILOT_WALKS_PER_PATCH, seed);
+        start.elapsed().as_secs_f64()
+    }
+    let seed = opts.seed ^ 0x005e_ed0f_9170;
+    let pilot = match opts.layer {
+        LayerKind::Pane => timed(
+            &Pane::new(RoughFace::all_orders(model)?, model.eta(), opts.absorption)?,
+            seed,
+        ),
+        LayerKind::Interface => timed(&RoughFace::multiple_orders(model)?, seed),
+    };
+    Ok(pilot * run as f64 / PILOT_WALKS_PER_PATCH as f64)
+}
+
 /// The quadrature of the model's single-scattering BSDF, its NDF dispatched once.
 fn interface_quadrature(
     model: &ExportModel,
