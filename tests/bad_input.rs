@@ -346,7 +346,7 @@ fn invalid_synth_flags() {
 }
 
 /// An input that is a device is refused before it is read, by every reader of files: `/dev/zero`
-/// never ends, and reading it whole had exhausted memory (exit 137).
+/// never ends, and reading it whole had exhausted memory (exit 137). A pipe is read.
 #[cfg(unix)]
 #[test]
 fn a_device_as_input_is_refused_before_it_is_read() {
@@ -366,7 +366,23 @@ fn a_device_as_input_is_refused_before_it_is_read() {
             "{args:?}: {}",
             run.stderr
         );
-    }
+    } // A pipe is still read: the example on stdin fits.
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_stfit"))
+        .args(["/dev/stdin", "--model", "ggx"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let example = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/fits/example.csv")).unwrap();
+    std::io::Write::write_all(&mut child.stdin.take().unwrap(), &example).unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("frosted"));
 }
 
 /// An output folder that is an existing file is refused in words by every command that writes
@@ -380,10 +396,12 @@ fn an_output_folder_that_is_a_file_is_named_as_such() {
     let file = file.to_str().unwrap();
     let example = concat!(env!("CARGO_MANIFEST_DIR"), "/fits/example.csv");
     let fits = concat!(env!("CARGO_MANIFEST_DIR"), "/fits/example-fits.json");
-    let slashed = format!("{file}/");
+    let slashed = format!("{file}{}", std::path::MAIN_SEPARATOR);
+    let below = format!("{file}{}sub", std::path::MAIN_SEPARATOR);
     for args in [
         vec!["export", fits, "--to", "mitsuba3", "--out", &slashed],
         vec!["report", example, "--out", file],
+        vec!["report", example, "--out", &below],
         vec![
             "synth",
             "--model",

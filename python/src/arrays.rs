@@ -3,8 +3,9 @@
 //! A batch of directions is any array-like of shape `(..., 3)` (one direction per row of the
 //! last axis) of an integer or float dtype, converted to contiguous `float64` without a copy
 //! when it already is one. Values come back with the leading shape (a Python float for a
-//! single direction). Every direction must be a unit vector (|norm - 1| <=
-//! [`UNIT_TOLERANCE`]), the library's precondition.
+//! single direction). Every direction must be one the library takes
+//! ([`stfit_fit::pairs::direction_problem`]): finite, a unit vector (|norm - 1| <= 1e-6) and
+//! with a `z` that is 0 or normal (not below 2.2e-308).
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -13,8 +14,7 @@ use pyo3::types::{PyDict, PyFloat};
 use rayon::prelude::*;
 use stfit_core::Vec3;
 use stfit_core::error::show;
-use stfit_fit::load::show_norm;
-use stfit_fit::pairs::{UNIT_TOLERANCE, is_subnormal_z, is_unit_norm, scaled_norm};
+use stfit_fit::pairs::direction_problem;
 
 /// Rows per parallel task (and per random-number stream of the samplers): batches shorter
 /// than this run on the calling thread.
@@ -78,22 +78,22 @@ pub fn dir(flat: &[f64], k: usize) -> Vec3 {
     Vec3::new(flat[3 * k], flat[3 * k + 1], flat[3 * k + 2])
 }
 
-/// True for a direction (three coordinates) that the library does not take: not a unit vector
-/// ([`is_unit_norm`]; NaN included), or a subnormal `z` ([`is_subnormal_z`]).
+/// True for a direction (three coordinates) that the library does not take
+/// ([`direction_problem`]).
 #[inline]
 fn refused(c: &[f64]) -> bool {
-    !is_unit_norm((c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt()) | is_subnormal_z(c[2])
+    direction_problem(Vec3::new(c[0], c[1], c[2])).is_some()
 }
 
-/// The first direction of `flat` that is not a unit vector or has a subnormal `z`, as a
-/// `ValueError` naming `name` and the row (run with the GIL released). Rows are checked
-/// [`ROWS_PER_TASK`] at a time, each block by a branch-free pass, and only a block that fails
-/// is searched for its row.
+/// The first direction of `flat` that the library does not take ([`direction_problem`]: not
+/// finite, not a unit vector, or a subnormal `z`), as a `ValueError` naming `name` and the row
+/// (run with the GIL released). Rows are checked [`ROWS_PER_TASK`] at a time, and only a block
+/// that fails is searched for its row.
 pub fn check_unit(flat: &[f64], name: &str) -> PyResult<()> {
     let block = 3 * ROWS_PER_TASK;
     let bad_block = flat
         .par_chunks(block)
-        .position_first(|rows| rows.chunks_exact(3).fold(false, |bad, c| bad | refused(c)));
+        .position_first(|rows| rows.chunks_exact(3).any(refused));
     let Some(b) = bad_block else {
         return Ok(());
     };
@@ -103,27 +103,14 @@ pub fn check_unit(flat: &[f64], name: &str) -> PyResult<()> {
             .chunks_exact(3)
             .position(refused)
             .expect("a block that failed has a bad row");
-    let c = &flat[3 * k..3 * k + 3];
-    let norm = scaled_norm(dir(flat, k));
-    let shown = format!(
-        "{name}[{k}] = [{}, {}, {}]",
-        show(c[0]),
-        show(c[1]),
-        show(c[2])
-    );
-    Err(PyValueError::new_err(if is_unit_norm(norm) {
-        format!(
-            "{shown}: z = {} is below the normal range of doubles (2.2e-308), where the BSDF's \
-             1 / |z| overflows; give 0 for a direction on the horizon",
-            show(c[2])
-        )
-    } else {
-        format!(
-            "{shown} is not a unit vector (norm {}); directions must have |norm - 1| <= \
-             {UNIT_TOLERANCE:e}",
-            show_norm(norm)
-        )
-    }))
+    let w = dir(flat, k);
+    let problem = direction_problem(w).expect("the row was refused");
+    Err(PyValueError::new_err(format!(
+        "{name}[{k}] = [{}, {}, {}]: {problem}",
+        show(w.x),
+        show(w.y),
+        show(w.z)
+    )))
 }
 
 /// Two batches paired row by row: equal shapes, or one a single direction paired with every

@@ -61,6 +61,17 @@ fn fit_options(
     multiple_term: Option<&str>,
 ) -> PyResult<FitOptions> {
     let orders = orders(orders_name)?;
+    let loss = match loss {
+        "sqrt" => Loss::Sqrt,
+        "linear" => Loss::Linear,
+        "log" => Loss::Log,
+        other => {
+            return Err(arg_error(
+                "loss",
+                format!("unknown loss '{other}' (expected sqrt, linear or log)"),
+            ));
+        }
+    };
     if orders != ScatteringOrders::All {
         for (name, given) in [
             ("walks", walks.is_some()),
@@ -75,7 +86,7 @@ fn fit_options(
             }
         }
     }
-    if log_floor.is_some() && loss != "log" {
+    if log_floor.is_some() && loss != Loss::Log {
         return Err(arg_error("log_floor", "applies to loss='log' only"));
     }
     let walks = walks.unwrap_or(DEFAULT_WALKS);
@@ -88,17 +99,7 @@ fn fit_options(
     let opts = FitOptions {
         eta: eta.map_or(Ok(Parameter::Fixed(DEFAULT_ETA)), |v| parameter("eta", v))?,
         scale: scale.map_or(Ok(Parameter::Free), |v| parameter("scale", v))?,
-        loss: match loss {
-            "sqrt" => Loss::Sqrt,
-            "linear" => Loss::Linear,
-            "log" => Loss::Log,
-            other => {
-                return Err(arg_error(
-                    "loss",
-                    format!("unknown loss '{other}' (expected sqrt, linear or log)"),
-                ));
-            }
-        },
+        loss,
         log_floor: log_floor.unwrap_or(DEFAULT_LOG_FLOOR),
         optimizer: match optimizer {
             "nelder-mead" => Optimizer::NelderMead,

@@ -4,7 +4,9 @@ Directions are unit vectors in the local frame (+z the macro normal, z > 0 outsi
 1, z < 0 inside with index ``eta``), given as any array-like of shape ``(..., 3)`` of an integer
 or float dtype (booleans, complex numbers and text raise ``ValueError``, not converted); values
 come back with the leading shape, or as a float for a single direction of shape ``(3,)``. A
-direction whose norm differs from 1 by more than 1e-6 raises ``ValueError``.
+direction with a coordinate that is not finite, whose norm differs from 1 by more than 1e-6, or
+whose z is subnormal (nonzero and below 2.2e-308 in magnitude, where 1 / |z| overflows; 0 is the
+horizon) raises ``ValueError`` naming the argument and the row.
 """
 
 import os
@@ -322,9 +324,10 @@ def report(
     """Writes the report of ``stfit report`` into ``out``: comparison figures (SVG, PNG) and
     fits.md. Without ``fits``, the four models are fitted first with the options given (as in
     ``fit``: loss "sqrt", log_floor 1e-3, optimizer "nelder-mead", orders "single", walks
-    20,000, seed 1, multiple_term "surrogate" where not given). With ``fits`` every fit option
-    raises ValueError: stored fits carry their own; so does an empty ``fits``. Returns the paths written; non-fatal
-    findings are issued as warnings."""
+    20,000, seed 1, multiple_term "surrogate" where not given; an option that does not apply,
+    such as ``walks`` with orders "single", raises ValueError). With ``fits`` every fit option
+    raises ValueError: stored fits carry their own; so does an empty ``fits``. Returns the
+    paths written; non-fatal findings are issued as warnings."""
 
 def export(
     fits: Union[FitResult, Sequence[FitResult], PathLike],

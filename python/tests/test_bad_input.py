@@ -397,7 +397,7 @@ def test_integer_and_float32_directions_are_accepted():
     ndf = stfit.Ggx(0.3)
     up = ndf.d([0.0, 0.0, 1.0])
     for w in ([0, 0, 1], np.array([0, 0, 1], dtype=np.uint8), np.array(UP, dtype=np.float32),
-              np.eye(3)[::-1][0]):
+              np.eye(3)[:, ::-1][0]):
         assert ndf.d(w) == up
 
 
@@ -415,7 +415,7 @@ def test_huge_and_tiny_numbers_in_messages_are_short():
     message, where its hundreds of digits were written out."""
     with pytest.raises(ValueError) as e:
         stfit.Ggx(0.3).sigma([1e300, 5e-324, 0.0])
-    assert "w[0] = [1e300, 5e-324, 0] is not a unit vector (norm 1e300)" in str(e.value)
+    assert "w[0] = [1e300, 5e-324, 0]: not a unit vector (norm 1e300)" in str(e.value)
     assert len(str(e.value)) < 200
     with pytest.raises(ValueError, match=r"^theta_i_deg\[0\] = 1e300 is out of range") as e:
         _ground_ggx().predict([1e300], [180.0])
@@ -431,7 +431,15 @@ def test_a_subnormal_z_is_refused_not_evaluated_to_nan(wi, wo, name):
     argument, as `stfit eval` refuses it: the BSDF divides by |z|, and had returned NaN."""
     for call in (lambda: stfit.RoughDielectric(stfit.Ggx(0.3), 1.5).eval(wi, wo),
                  lambda: stfit.Microsurface(stfit.Ggx(0.3), 1.5).eval(wi, wo, walks=16)):
-        with pytest.raises(ValueError, match=rf"^{name}\[0\] = .*below the normal range"):
+        with pytest.raises(ValueError, match=rf"^{name}\[0\] = .*: z = .* is below the normal"):
             call()
     with pytest.raises(ValueError, match="above 1.8e308"):
         stfit.Ggx(0.3).sigma([1.5e308, 1.5e308, 0.0])
+
+
+def test_a_direction_just_off_unit_length_is_named_as_such():
+    """The plain norm decides and the message states it: a direction whose norm is 1 - 1.0e-6
+    less an ulp had been called subnormal in z."""
+    w = [0.30374447326405685, 0.42483036101897353, 0.8527933274358023]
+    with pytest.raises(ValueError, match=r"^wm\[0\] = .*: not a unit vector \(norm 0\.99999"):
+        stfit.Ggx(0.3).d(w)

@@ -46,7 +46,8 @@ def test_bad_parameters_raise_value_error(make, text):
     "w, text",
     [
         ([0.0, 0.0, 2.0], "unit vector"),
-        ([[0.0, 0.0, 1.0], [math.nan, 0.0, 1.0]], r"w\[1\]"),
+        ([[0.0, 0.0, 1.0], [math.nan, 0.0, 1.0]],
+         r"^w\[1\] = \[NaN, 0, 1\]: a coordinate is not a finite number$"),
         (np.zeros((4, 2)), "shape"),
         ("up", "array"),
     ],

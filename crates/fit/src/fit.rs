@@ -136,9 +136,8 @@ pub enum FitError {
         short(sample),
         match held_scale {
             Some(s) => format!(
-                "the held scale {} may make the model overflow (--scale), or the measured \
-                 directions lie where the model overflows (near-specular pairs with a tiny \
-                 roughness)",
+                "the held scale {} may make the model overflow, or the measured directions \
+                 lie where the model overflows (near-specular pairs with a tiny roughness)",
                 show(*s)
             ),
             None => "the measured directions may lie where the model overflows \

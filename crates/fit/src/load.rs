@@ -195,19 +195,9 @@ pub enum LoadErrorKind {
     /// A column that the command writes is already in its input.
     #[error("is written by stfit; the input must not have it")]
     Reserved,
-    /// A direction that is not a unit vector.
-    #[error(
-        "not a unit vector (norm {}); directions must have |norm - 1| <= {tolerance:e}",
-        show_norm(*.norm)
-    )]
-    NotUnit { norm: f64, tolerance: f64 },
-    /// A direction's `z` that is subnormal: `1 / |z|` in the BSDF overflows.
-    #[error(
-        "{} is below the normal range of doubles (2.2e-308): the BSDF divides by it; give 0 for \
-         a direction on the horizon",
-        show(*.0)
-    )]
-    SubnormalZ(f64),
+    /// A direction that the library does not take (not a unit vector, or a subnormal `z`).
+    #[error("{0}")]
+    Direction(crate::pairs::DirectionProblem),
     /// The CSV structure itself is broken.
     #[error("malformed CSV: {0}")]
     Csv(String),
@@ -221,17 +211,6 @@ pub enum LoadErrorKind {
     /// An in-memory column whose length differs from the first column's.
     #[error("has {found} rows, the first column {expected}")]
     ColumnLength { found: usize, expected: usize },
-}
-
-/// The norm of a direction that is not a unit vector, for a message: [`show`]n, and said to
-/// be above the largest double rather than printed as infinity (compute it with
-/// [`crate::pairs::scaled_norm`], which overflows only there).
-pub fn show_norm(norm: f64) -> String {
-    if norm.is_finite() {
-        show(norm)
-    } else {
-        "above 1.8e308".to_owned()
-    }
 }
 
 impl LoadError {
@@ -579,9 +558,9 @@ pub(crate) fn text_fields<'r>(
 }
 
 /// The bytes of the input file at `path`, read whole: a regular file or a pipe (`<(...)`,
-/// `/dev/stdin`). A device or a socket is refused with an [`std::io::ErrorKind::InvalidInput`]
-/// error before anything is read: `/dev/zero` or `/dev/full` never ends, and reading one had
-/// exhausted memory.
+/// `/dev/stdin`). On Unix a device or a socket is refused with an
+/// [`std::io::ErrorKind::InvalidInput`] error before anything is read: `/dev/zero` or
+/// `/dev/full` never ends, and reading one had exhausted memory.
 pub fn read_input(path: &Path) -> std::io::Result<Vec<u8>> {
     #[cfg(unix)]
     {

@@ -8,6 +8,7 @@ use std::io::{self, Write};
 use std::path::Path;
 
 use stfit_core::Vec3;
+use stfit_core::error::show;
 
 use crate::load::{LoadError, LoadErrorKind, records_until_quote_problem, text_fields};
 
@@ -33,17 +34,75 @@ pub fn is_unit_norm(norm: f64) -> bool {
     (norm - 1.0).abs() <= UNIT_TOLERANCE + 4.0 * f64::EPSILON
 }
 
-/// True for a direction's `z` that is subnormal (nonzero and below 2.2e-308 in magnitude):
-/// the BSDF divides by `|z|` and overflows, so such a direction is refused (0 is the horizon).
+/// True for a direction's `z` that is subnormal (nonzero and below 2.2e-308 in magnitude).
 #[inline]
 pub fn is_subnormal_z(z: f64) -> bool {
     z != 0.0 && z.abs() < f64::MIN_POSITIVE
 }
 
+/// Why a direction is not one the library takes: the one test behind every direction read from
+/// a file or passed as an array ([`direction_problem`]), and its message.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DirectionProblem {
+    /// A coordinate that is NaN or infinite.
+    NotFinite,
+    /// Finite coordinates whose norm is not 1 to [`UNIT_TOLERANCE`] ([`is_unit_norm`]); the
+    /// norm as the message states it, without the overflow or underflow of its squares.
+    NotUnit { norm: f64 },
+    /// A unit vector whose `z` is subnormal: `1 / |z|` (in the BSDF, the visible-normal density,
+    /// Smith's `Lambda`) overflows, where a `z` of 0 is the horizon.
+    SubnormalZ(f64),
+}
+
+impl std::fmt::Display for DirectionProblem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::NotFinite => f.write_str("a coordinate is not a finite number"),
+            Self::NotUnit { norm } => {
+                let norm = if norm.is_finite() {
+                    show(*norm)
+                } else {
+                    "above 1.8e308".to_owned()
+                };
+                write!(
+                    f,
+                    "not a unit vector (norm {norm}); directions must have |norm - 1| <= \
+                     {UNIT_TOLERANCE:e}"
+                )
+            }
+            Self::SubnormalZ(z) => write!(
+                f,
+                "z = {} is below the normal range of doubles (2.2e-308), where 1 / |z| \
+                 overflows; give 0 for a direction on the horizon",
+                show(*z)
+            ),
+        }
+    }
+}
+
+/// Why `w` is not a direction the library takes, if it is not: a non-finite coordinate, a norm
+/// not 1 ([`is_unit_norm`] of the plain norm, the library's own), or a subnormal `z`.
+pub fn direction_problem(w: Vec3) -> Option<DirectionProblem> {
+    if !(w.x.is_finite() && w.y.is_finite() && w.z.is_finite()) {
+        return Some(DirectionProblem::NotFinite);
+    }
+    let norm = w.norm();
+    if !is_unit_norm(norm) {
+        // The plain norm decides; a norm whose squares overflowed or underflowed is stated as
+        // it is.
+        let norm = if norm == 0.0 || norm.is_infinite() {
+            scaled_norm(w)
+        } else {
+            norm
+        };
+        return Some(DirectionProblem::NotUnit { norm });
+    }
+    is_subnormal_z(w.z).then_some(DirectionProblem::SubnormalZ(w.z))
+}
+
 /// `|w|` without the overflow or underflow of its squares (`|(1e200, 0, 0)|` is 1e200, not
-/// infinity; `|(1e-200, 0, 0)|` is 1e-200, not 0), for messages: infinite only above the
-/// largest double.
-pub fn scaled_norm(w: Vec3) -> f64 {
+/// infinity; `|(1e-200, 0, 0)|` is 1e-200, not 0): infinite only above the largest double.
+fn scaled_norm(w: Vec3) -> f64 {
     let m = w.amax();
     if m == 0.0 { 0.0 } else { m * (w / m).norm() }
 }
@@ -145,31 +204,22 @@ pub fn read_pairs(source: &Path, bytes: &[u8]) -> Result<PairTable, LoadError> {
             v[k] = crate::load::parse_finite(fields[i])
                 .map_err(|kind| err(Some(line), Some(&header[i]), kind))?;
         }
-        let unit = |w: Vec3, name: &str| {
-            if !is_unit_norm(w.norm()) {
-                Err(err(
-                    Some(line),
-                    Some(name),
-                    LoadErrorKind::NotUnit {
-                        norm: scaled_norm(w),
-                        tolerance: UNIT_TOLERANCE,
-                    },
-                ))
-            } else {
-                Ok(w)
-            }
-        };
-        let wi = unit(Vec3::new(v[0], v[1], v[2]), "wi_x, wi_y, wi_z")?;
-        let wo = unit(Vec3::new(v[3], v[4], v[5]), "wo_x, wo_y, wo_z")?;
-        for k in [2, 5] {
-            if is_subnormal_z(v[k]) {
+        let mut pair = [Vec3::zeros(); 2];
+        for (side, w) in pair.iter_mut().enumerate() {
+            *w = Vec3::new(v[3 * side], v[3 * side + 1], v[3 * side + 2]);
+            if let Some(problem) = direction_problem(*w) {
+                let column = match problem {
+                    DirectionProblem::SubnormalZ(_) => PAIR_COLUMNS[3 * side + 2].to_owned(),
+                    _ => PAIR_COLUMNS[3 * side..3 * side + 3].join(", "),
+                };
                 return Err(err(
                     Some(line),
-                    Some(PAIR_COLUMNS[k]),
-                    LoadErrorKind::SubnormalZ(v[k]),
+                    Some(&column),
+                    LoadErrorKind::Direction(problem),
                 ));
             }
         }
+        let [wi, wo] = pair;
         pairs.push((wi, wo));
         rows.push(fields.into_iter().map(str::to_owned).collect());
     }
