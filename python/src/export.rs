@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use stfit_export::radiance::{DEFAULT_WALKS_PER_PATCH, LayerKind, QuadratureRule, RadianceOptions};
+use stfit_export::radiance::{LayerKind, QuadratureRule, RadianceOptions};
 use stfit_export::{BatchError, Destination, Selection, Target, export_fits, radiance_walks_apply};
 use stfit_fit::{FitResult, FitsFile, ModelKind};
 
@@ -88,11 +88,13 @@ fn type_error() -> PyErr {
 /// returns the text `stfit export` prints; with `out` a file, writes one file of each type
 /// (the first at `out`, the others beside it with their extension), with `out` an existing
 /// folder one file per fit named `ID-TARGET.EXT`, and returns the paths written. `layer`,
-/// `absorption`, `walks` and `seed` are the options of `radiance`. Clamps and other
-/// departures from the fit become Python warnings.
+/// `absorption`, `walks` and `seed` are the options of `radiance` (defaults: the pane, no
+/// absorption, 65,536 walks per patch, seed 1), refused with another target, and `walks` and
+/// `seed` where nothing walks, even at their default values, as on the command line. Clamps and
+/// other departures from the fit become Python warnings.
 #[pyfunction]
-#[pyo3(signature = (fits, to, *, sample = None, model = None, out = None, layer = "pane",
-    absorption = 0.0, walks = DEFAULT_WALKS_PER_PATCH, seed = 1))]
+#[pyo3(signature = (fits, to, *, sample = None, model = None, out = None, layer = None,
+    absorption = None, walks = None, seed = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn export(
     py: Python<'_>,
@@ -101,38 +103,42 @@ pub fn export(
     sample: Option<&str>,
     model: Option<&str>,
     out: Option<PathBuf>,
-    layer: &str,
-    absorption: f64,
-    #[pyo3(from_py_with = crate::ints::walks)] walks: u64,
-    #[pyo3(from_py_with = crate::ints::seed)] seed: u64,
+    layer: Option<&str>,
+    absorption: Option<f64>,
+    walks: Option<&Bound<'_, PyAny>>,
+    seed: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let target = target(to)?;
+    let walks = walks.map(crate::ints::walks).transpose()?;
+    let seed = seed.map(crate::ints::seed).transpose()?;
+    let defaults = RadianceOptions::default();
     let radiance = RadianceOptions {
         layer: match layer {
-            "pane" => LayerKind::Pane,
-            "interface" => LayerKind::Interface,
-            other => {
+            None => defaults.layer,
+            Some("pane") => LayerKind::Pane,
+            Some("interface") => LayerKind::Interface,
+            Some(other) => {
                 return Err(arg_error(
                     "layer",
                     format!("unknown layer '{other}' (expected pane or interface)"),
                 ));
             }
         },
-        absorption,
-        walks_per_patch: walks,
-        seed,
+        absorption: absorption.unwrap_or(defaults.absorption),
+        walks_per_patch: walks.unwrap_or(defaults.walks_per_patch),
+        seed: seed.unwrap_or(defaults.seed),
         rule: QuadratureRule::DEFAULT,
     };
     radiance.check().map_err(value_error)?;
-    if target != Target::Radiance && radiance != RadianceOptions::default() {
+    let given = layer.is_some() || absorption.is_some() || walks.is_some() || seed.is_some();
+    if target != Target::Radiance && given {
         return Err(value_error(
             "layer, absorption, walks and seed apply to to='radiance' only",
         ));
     }
     let selection = selection(sample, model)?;
     let (fits, file) = fits_of(fits)?;
-    let defaults = RadianceOptions::default();
-    if (walks, seed) != (defaults.walks_per_patch, defaults.seed)
+    if (walks.is_some() || seed.is_some())
         && !radiance_walks_apply(&fits, &selection, radiance.layer)
     {
         return Err(value_error(

@@ -336,10 +336,10 @@ def export(
     sample: Optional[str] = None,
     model: Optional[str] = None,
     out: Optional[PathLike] = None,
-    layer: str = "pane",
-    absorption: float = 0.0,
-    walks: int = 65_536,
-    seed: int = 1,
+    layer: Optional[str] = None,
+    absorption: Optional[float] = None,
+    walks: Optional[int] = None,
+    seed: Optional[int] = None,
 ) -> Union[str, list[pathlib.Path]]:
     """Exports stored fits as ``stfit export`` does (the same code, texts byte for byte).
 
@@ -353,12 +353,13 @@ def export(
     with ``out`` an existing folder, one file per fit named ``SAMPLE_MODEL-TARGET.EXT``; then
     returns the paths written. Radiance writes one file per fit, so several fits need a folder.
 
-    Radiance options: ``layer`` ``pane`` (the rough face over a smooth back face, with all
-    inter-reflections) or ``interface`` (the single rough interface); ``absorption``: the
-    fraction absorbed in one normal crossing of the pane, in [0, 1); ``walks``: random walks
-    per Klems patch where walks are needed, at least 2, rounded up to a square; ``seed``: their
-    seed. They are refused for other
-    targets. Clamps and other departures from the fit are issued as warnings; a bad option or
+    Radiance options: ``layer`` ``pane`` (the default: the rough face over a smooth back face,
+    with all inter-reflections) or ``interface`` (the single rough interface); ``absorption``:
+    the fraction absorbed in one normal crossing of the pane, in [0, 1), default 0; ``walks``:
+    random walks per Klems patch where walks are needed, at least 2, rounded up to a square,
+    default 65,536; ``seed``: their seed, default 1. Given with another target they raise
+    ``ValueError``, and so do ``walks`` and ``seed`` where nothing walks (the interface of
+    single-scattering fits), as on the command line. Clamps and other departures from the fit are issued as warnings; a bad option or
     fit raises ``ValueError``, an unreadable file ``OSError``."""
 
 AxisLike = Union[str, Sequence[float]]

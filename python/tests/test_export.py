@@ -96,10 +96,14 @@ def test_bad_options_raise_value_error(at_repo):
     with pytest.raises(ValueError, match=r"walks: -1 is not an integer in \[1, 1000000000\]"):
         stfit.export(FITS, to="radiance", sample="ground", model="ggx", walks=-1)
     # A single-scattering interface is integrated by quadrature: its walks would be ignored.
-    for option in [{"walks": 10}, {"seed": 3}]:
+    # Even at their default values, as on the command line.
+    for option in [{"walks": 10}, {"seed": 3}, {"walks": 65_536}, {"seed": 1}]:
         with pytest.raises(ValueError, match="walks and seed apply to the pane"):
             stfit.export(FITS, to="radiance", sample="ground", model="ggx", layer="interface",
                          **option)
+    for option in [{"layer": "pane"}, {"absorption": 0.0}, {"seed": 1}]:
+        with pytest.raises(ValueError, match="apply to to='radiance' only"):
+            stfit.export(FITS, to="mitsuba3", **option)
 
 
 def test_bad_fits_raise(at_repo, tmp_path):
