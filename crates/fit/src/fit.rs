@@ -123,6 +123,11 @@ pub enum FitError {
     /// A model specification that makes no sense (e.g. a fixed gamma for GGX).
     #[error("invalid model: {0}")]
     InvalidSpec(String),
+    /// A fit option outside its documented range or at odds with another (a held scale that is
+    /// not a normal double, a log floor outside [1e-12, 1], one walk, orders multiple); front
+    /// ends put the option's name before the message.
+    #[error("{0}")]
+    InvalidOption(String),
     /// The model is zero at every point whatever its parameters.
     #[error(
         "sample `{}`: no microfacet connects any measured pair of directions",
@@ -183,9 +188,10 @@ impl FitError {
             | Self::InvalidData { .. }
             | Self::NoSignal { .. }
             | Self::Scale { .. } => (true, false),
-            Self::InvalidParameter(_) | Self::InvalidSpec(_) | Self::NotRepresentable(_) => {
-                (false, false)
-            }
+            Self::InvalidParameter(_)
+            | Self::InvalidSpec(_)
+            | Self::InvalidOption(_)
+            | Self::NotRepresentable(_) => (false, false),
         }
     }
 }

@@ -203,7 +203,7 @@ pub fn check_fit_scale(scale: f64) -> Result<f64, FitError> {
     if scale.is_finite() && scale >= f64::MIN_POSITIVE {
         Ok(scale)
     } else {
-        Err(FitError::InvalidSpec(format!(
+        Err(FitError::InvalidOption(format!(
             "a held scale must be a finite number of at least 2.2e-308 (a normal double > 0), \
              got {}",
             show(scale)
@@ -223,7 +223,7 @@ pub fn check_log_floor(floor: f64) -> Result<f64, FitError> {
     if (lo..=hi).contains(&floor) {
         Ok(floor)
     } else {
-        Err(FitError::InvalidSpec(format!(
+        Err(FitError::InvalidOption(format!(
             "the log floor must be in [1e-12, 1] (a fraction of the sample's largest value), \
              got {}",
             show(floor)
@@ -236,12 +236,12 @@ pub fn check_log_floor(floor: f64) -> Result<f64, FitError> {
 /// Carlo error, which the walks' own scatter estimates: one walk has none to show.
 pub fn check_fit_walks(walks: u64) -> Result<u64, FitError> {
     if walks > stfit_core::walk::MAX_WALKS {
-        return Err(FitError::InvalidSpec(format!(
+        return Err(FitError::InvalidOption(format!(
             "walks must be in [2, 1e9] for an all-orders fit, got {walks}"
         )));
     }
     if walks < 2 {
-        return Err(FitError::InvalidSpec(
+        return Err(FitError::InvalidOption(
             "an all-orders fit needs at least 2 walks per incident direction: its standard \
              errors include the walk term's, which one walk cannot estimate"
                 .into(),
@@ -253,7 +253,7 @@ pub fn check_fit_walks(walks: u64) -> Result<u64, FitError> {
 /// The orders a model of measurements can have, single or all, with a masking they allow.
 pub fn check_orders(orders: ScatteringOrders, masking: Masking) -> Result<(), FitError> {
     if orders == ScatteringOrders::Multiple {
-        return Err(FitError::InvalidSpec(
+        return Err(FitError::InvalidOption(
             "orders multiple (>= 2 only) model no measurement: fit and simulate with single or \
              all"
             .into(),
@@ -261,6 +261,6 @@ pub fn check_orders(orders: ScatteringOrders, masking: Masking) -> Result<(), Fi
     }
     orders
         .check_masking(masking)
-        .map_err(|e| FitError::InvalidSpec(e.to_string()))?;
+        .map_err(|e| FitError::InvalidOption(e.to_string()))?;
     Ok(())
 }

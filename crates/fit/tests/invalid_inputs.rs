@@ -137,7 +137,7 @@ fn invalid_points_and_options_are_rejected() {
         assert!(
             matches!(
                 fit_sample(&good(), ggx, &bad),
-                Err(FitError::InvalidSpec(_))
+                Err(FitError::InvalidOption(_))
             ),
             "{bad:?}"
         );
