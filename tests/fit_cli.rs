@@ -771,6 +771,29 @@ fn a_held_scale_that_overflows_the_model_is_named() {
     );
 }
 
+/// An option out of its range is named with the option, not called an invalid model (the held
+/// scale, the log floor and the walks had read '--scale: invalid model: ...').
+#[test]
+fn option_errors_name_the_option_not_the_model() {
+    let example = repo_file("fits/example.csv");
+    for (args, start) in [
+        (vec!["--scale", "0"], "error: --scale: a held scale must be"),
+        (
+            vec!["--loss", "log", "--log-floor", "5"],
+            "error: --log-floor: the log floor must be",
+        ),
+        (
+            vec!["--orders", "all", "--walks", "1"],
+            "error: --walks: an all-orders fit needs at least 2 walks",
+        ),
+    ] {
+        let mut all = vec![p(&example), "--model", "ggx"];
+        all.extend(args);
+        let e = stfit(&all).fails_with(2).to_string();
+        assert!(e.starts_with(start), "{e}");
+    }
+}
+
 /// `--out` of a fit names a file: a path ending in `/` is refused with a message that says so
 /// (it had said 'Is a directory' for a folder that did not exist).
 #[test]
