@@ -9,7 +9,7 @@ use stfit_core::walk::{LONG_RUN_SECONDS, describe_seconds};
 use stfit_export::radiance::{DEFAULT_WALKS_PER_PATCH, LayerKind, QuadratureRule, RadianceOptions};
 use stfit_export::{
     BatchError, Destination, FitExport, Selection, Target, export_fits, radiance_walk_seconds,
-    radiance_walks_apply,
+    radiance_walks_apply, select_fits,
 };
 use stfit_fit::{FitsFile, ModelKind};
 
@@ -179,8 +179,16 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
         }
         Some(p) => Destination::File(p),
     };
+    let batch_error = |e| match e {
+        BatchError::OneFilePerFit => usage(
+            "radiance writes one BSDF file per fit: select one fit (--sample, --model) or give --out an existing folder",
+        ),
+        e @ BatchError::SamePath { .. } => usage(format!("--out: {e}")),
+        e => failed(format!("{}: {e}", args.fits.display())),
+    };
     if target == Target::Radiance {
-        let seconds = radiance_walk_seconds(&file.fits, &selection, &radiance);
+        let selected = select_fits(&file.fits, &selection, target, dest).map_err(batch_error)?;
+        let seconds = radiance_walk_seconds(&selected, &radiance);
         if seconds > LONG_RUN_SECONDS {
             eprintln!(
                 "note: the random walks of this export ({} per Klems patch) will take about {} \
@@ -191,13 +199,7 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
         }
     }
     let batch =
-        export_fits(&file.fits, &selection, target, &radiance, dest).map_err(|e| match e {
-            BatchError::OneFilePerFit => usage(
-                "radiance writes one BSDF file per fit: select one fit (--sample, --model) or give --out an existing folder",
-            ),
-            e @ BatchError::SamePath { .. } => usage(format!("--out: {e}")),
-            e => failed(format!("{}: {e}", args.fits.display())),
-        })?;
+        export_fits(&file.fits, &selection, target, &radiance, dest).map_err(batch_error)?;
     for FitExport { id, export } in &batch.exports {
         for w in &export.warnings {
             eprintln!("warning: {id}: {w}");

@@ -102,14 +102,7 @@ pub fn export_fits(
     radiance: &RadianceOptions,
     dest: Destination<'_>,
 ) -> Result<Batch, BatchError> {
-    let selected: Vec<&FitResult> = fits.iter().filter(|f| selection.matches(f)).collect();
-    if selected.is_empty() {
-        return Err(BatchError::NoMatch);
-    }
-    if target == Target::Radiance && selected.len() > 1 && !matches!(dest, Destination::Folder(_)) {
-        return Err(BatchError::OneFilePerFit);
-    }
-    distinct_identifiers(&selected)?;
+    let selected = select_fits(fits, selection, target, dest)?;
     let exports = selected
         .into_iter()
         .map(|fit| {
@@ -139,16 +132,32 @@ pub fn radiance_walks_apply(fits: &[FitResult], selection: &Selection, layer: La
         || selected.any(|f| f.model.orders == ScatteringOrders::All)
 }
 
-/// Estimated wall time, in seconds, of the random walks of the Radiance export of the fits
-/// `selection` picks ([`crate::radiance::walk_seconds`], summed over the fits), for a note
-/// before a long run. A fit that cannot be exported counts 0: [`export_fits`] reports it.
-pub fn radiance_walk_seconds(
-    fits: &[FitResult],
+/// The fits of `fits` that `selection` picks, for an export to `target` written to `dest`,
+/// after the checks of [`export_fits`] that come before any export: some fit matches, Radiance
+/// needs a folder for several fits, and identifiers are distinct.
+pub fn select_fits<'a>(
+    fits: &'a [FitResult],
     selection: &Selection,
-    radiance: &RadianceOptions,
-) -> f64 {
-    fits.iter()
-        .filter(|f| selection.matches(f))
+    target: Target,
+    dest: Destination<'_>,
+) -> Result<Vec<&'a FitResult>, BatchError> {
+    let selected: Vec<&FitResult> = fits.iter().filter(|f| selection.matches(f)).collect();
+    if selected.is_empty() {
+        return Err(BatchError::NoMatch);
+    }
+    if target == Target::Radiance && selected.len() > 1 && !matches!(dest, Destination::Folder(_)) {
+        return Err(BatchError::OneFilePerFit);
+    }
+    distinct_identifiers(&selected)?;
+    Ok(selected)
+}
+
+/// Estimated wall time, in seconds, of the random walks of the Radiance export of `selected`
+/// ([`select_fits`]; [`crate::radiance::walk_seconds`] summed over the fits), for a note
+/// before a long run. A fit that cannot be exported counts 0: [`export_fits`] reports it.
+pub fn radiance_walk_seconds(selected: &[&FitResult], radiance: &RadianceOptions) -> f64 {
+    selected
+        .iter()
         .filter_map(|f| ExportModel::from_fit(f).ok())
         .map(|m| crate::radiance::walk_seconds(&m, radiance).unwrap_or(0.0))
         .sum()

@@ -31,7 +31,7 @@ pub mod translate;
 
 pub use batch::{
     Batch, BatchError, Destination, FitExport, Output, export_fits, radiance_walk_seconds,
-    radiance_walks_apply,
+    radiance_walks_apply, select_fits,
 };
 pub use error::ExportError;
 pub use model::ExportModel;
