@@ -306,7 +306,8 @@ pub fn write_file(
     }
     if !header {
         let expected = csv_header(samples)?.join(",");
-        match read_header(path)? {
+        let (bytes, found) = read_header(path)?;
+        match found {
             Some((_, h)) if h.join(",") == expected => {}
             Some((line, h)) => {
                 return Err(SynthError::Append {
@@ -321,10 +322,7 @@ pub fn write_file(
                 });
             }
         }
-        let ends_with_break = std::fs::read(path)
-            .map(|b| b.ends_with(b"\n"))
-            .unwrap_or(false);
-        if !ends_with_break {
+        if !bytes.ends_with(b"\n") {
             return Err(SynthError::Append {
                 path: display,
                 reason: "the file does not end with a line break".into(),
