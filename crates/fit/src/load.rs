@@ -582,9 +582,12 @@ pub fn read_input_text(path: &Path) -> std::io::Result<String> {
         .map_err(|_| std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text"))
 }
 
+/// A CSV header: the line it is on and its fields.
+pub type CsvHeader = (u64, Vec<String>);
+
 /// The bytes of the CSV file at `path` and its header (its first record, as [`read_records`]
-/// reads it) with its line, or `None` for a file with none.
-pub fn read_header(path: &Path) -> Result<(Vec<u8>, Option<(u64, Vec<String>)>), LoadError> {
+/// reads it), or `None` for a file with none.
+pub fn read_header(path: &Path) -> Result<(Vec<u8>, Option<CsvHeader>), LoadError> {
     let bytes = read_input(path)
         .map_err(|e| LoadError::new(path, None, None, LoadErrorKind::Io(e.to_string())))?;
     let header = header_of(path, &bytes)?;
@@ -592,7 +595,7 @@ pub fn read_header(path: &Path) -> Result<(Vec<u8>, Option<(u64, Vec<String>)>),
 }
 
 /// The header of the CSV text `bytes` read from `path` ([`read_header`]).
-fn header_of(path: &Path, bytes: &[u8]) -> Result<Option<(u64, Vec<String>)>, LoadError> {
+fn header_of(path: &Path, bytes: &[u8]) -> Result<Option<CsvHeader>, LoadError> {
     let Some((line, record)) = read_records(path, bytes)?.into_iter().next() else {
         return Ok(None);
     };
