@@ -311,6 +311,28 @@ fn the_files_hold_the_same_numbers_in_the_documented_layouts() {
 }
 
 #[test]
+fn a_table_of_the_inside_side_alone_records_side_1_in_the_npy() {
+    // The `side` field is the side itself (0 outside, 1 inside), not its position in the
+    // table: with `--side inside` alone every record has 1, as the CSV says `inside`.
+    let mut s = spec(Family::Ggx, ScatteringOrders::Single);
+    s.sides = vec![Side::Inside];
+    let t = table(&s);
+    let csv = String::from_utf8(Format::Csv.write(&t)).unwrap();
+    assert!(
+        csv.lines()
+            .skip(1)
+            .all(|r| r.split(',').nth(3) == Some("inside"))
+    );
+    let npy = Format::Npy.write(&t);
+    let (dict, data) = npy_parts(&npy);
+    let record = 1 + 34 + 8 * dict.matches("'<f8'").count();
+    assert_eq!(data.len(), record * s.cells());
+    for (i, rec) in data.chunks(record).enumerate() {
+        assert_eq!(rec[0], 1, "side of record {i}");
+    }
+}
+
+#[test]
 fn specifications_outside_the_supported_range_are_refused() {
     let base = spec(Family::Ggx, ScatteringOrders::Single);
     let refused = |edit: &dyn Fn(&mut TableSpec)| {

@@ -3,7 +3,7 @@
 
 use super::{has_gamma, index_columns, quantity_columns, rows};
 use crate::compute::Table;
-use crate::spec::{Surface, TableSpec};
+use crate::spec::{Side, Surface, TableSpec};
 
 /// The value of a text field for a table.
 type TextOf = fn(&TableSpec) -> &'static str;
@@ -76,7 +76,8 @@ pub fn write(table: &Table) -> Vec<u8> {
     for row in rows(table) {
         let line = row.line;
         let (eta_value, k_value) = index_columns(spec, line);
-        out.push(line.side as u8);
+        // `line.side` indexes `spec.sides`, which may be `[Inside]` alone.
+        out.push(u8::from(spec.sides[line.side] == Side::Inside));
         out.extend_from_slice(&text);
         let mut put = |v: f64| out.extend_from_slice(&v.to_le_bytes());
         put(spec.alpha.values[line.alpha]);
