@@ -62,7 +62,8 @@ pub(crate) const MODEL_COLOURS: [RGBColor; 4] = [
     OKABE_ITO[2],
 ];
 
-/// `x` with `sig` significant digits, in plain notation for moderate magnitudes.
+/// `x` with `sig` significant digits, in plain notation for moderate magnitudes. The magnitude
+/// is that of `x` rounded to those digits, so that 9.99996 to 4 digits is `10.00`, not `10.000`.
 pub fn fmt_sig(x: f64, sig: usize) -> String {
     if !x.is_finite() {
         return format!("{x}");
@@ -70,12 +71,16 @@ pub fn fmt_sig(x: f64, sig: usize) -> String {
     if x == 0.0 {
         return "0".to_string();
     }
-    let mag = x.abs().log10().floor() as i32;
+    let rounded = format!("{x:.*e}", sig.saturating_sub(1));
+    let mag: i32 = rounded
+        .split_once('e')
+        .and_then(|(_, e)| e.parse().ok())
+        .expect("Rust writes an exponent in {:e}");
     if (-5..6).contains(&mag) {
         let decimals = (sig as i32 - 1 - mag).max(0) as usize;
         format!("{x:.decimals$}")
     } else {
-        format!("{x:.*e}", sig.saturating_sub(1))
+        rounded
     }
 }
 
@@ -197,4 +202,22 @@ pub(crate) fn angle_legend(
         label: format!("θi = {}", fmt_deg(a)),
     }));
     entries
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Significant digits are counted after rounding: a value just below a power of ten that
+    /// rounds up to it has no extra digit.
+    #[test]
+    fn fmt_sig_counts_digits_after_rounding() {
+        assert_eq!(fmt_sig(9.99996, 4), "10.00");
+        assert_eq!(fmt_sig(0.099996, 2), "0.10");
+        assert_eq!(fmt_sig(0.2001, 4), "0.2001");
+        assert_eq!(fmt_sig(1234.5, 2), "1234");
+        assert_eq!(fmt_sig(-0.00012345, 3), "-0.000123");
+        assert_eq!(fmt_sig(999_999.7, 3), "1.00e6");
+        assert_eq!(fmt_sig(1.5e-7, 2), "1.5e-7");
+    }
 }
