@@ -90,6 +90,11 @@ pub enum FitWarning {
         informative: usize,
         parameters: usize,
     },
+    /// The model is not differentiable in a parameter at the optimum: it jumps or kinks within
+    /// the finite-difference step (eta where a data point's refraction half vector turns
+    /// horizontal, or where total internal reflection sets in), so the optimum may be pinned
+    /// on that edge and a linearisation gives no valid standard error.
+    NotDifferentiable { parameter: String },
 }
 
 impl std::fmt::Display for FitWarning {
@@ -112,6 +117,11 @@ impl std::fmt::Display for FitWarning {
                 "only {informative} informative points (distinct direction pairs with weight > 0 and \
                  value not 0) for \
                  {parameters} fitted parameters"
+            ),
+            Self::NotDifferentiable { parameter } => write!(
+                f,
+                "the model is not differentiable in {parameter} at the optimum (it jumps or \
+                 kinks there): the fit may sit on that edge and has no standard errors"
             ),
         }
     }
