@@ -7,8 +7,8 @@ mod common;
 use stfit_fit::conventions::{in_plane_to_spherical, wi_from_deg};
 use stfit_fit::pabopto::{PabValue, write_pabopto};
 use stfit_fit::{
-    FitOptions, Gamma, Grid, Loss, Masking, Measurement, Model, ModelKind, ModelSpec, Parameter,
-    Sample, ScatteringOrders, SynthSpec, fit_sample, load_paths,
+    FitOptions, FitWarning, Gamma, Grid, Loss, Masking, Measurement, Model, ModelKind, ModelSpec,
+    Parameter, Sample, ScatteringOrders, SynthSpec, fit_sample, load_paths,
 };
 use stfit_test_support::CaseDir;
 
@@ -76,7 +76,13 @@ fn general_data_of_every_ndf_are_recovered_with_free_eta() {
             r.model.scale,
             r.rmse_sqrt_l
         );
-        assert!(!r.eta_fixed && r.eta_stderr.is_some_and(|s| s > 0.0));
+        // Eta has a standard error, unless the optimum is pinned where a point's refraction
+        // ends (the Student-T case here ends at eta 1.448946, as 4 of 30 seeds of `synth
+        // --grid general` do): then the fit says so and gives none.
+        let pinned = r.warnings.iter().any(
+            |w| matches!(w, FitWarning::NotDifferentiable { parameter } if parameter == "eta"),
+        );
+        assert!(!r.eta_fixed && (r.eta_stderr.is_some_and(|s| s > 0.0) || pinned));
         assert!(rel(r.model.alpha, truth.alpha) < 0.03, "{truth:?}: {r:?}");
         assert!(rel(r.model.eta, truth.eta) < 0.005, "{truth:?}: {r:?}");
         assert!(rel(r.model.scale, truth.scale) < 0.05, "{truth:?}: {r:?}");
