@@ -54,11 +54,17 @@ impl PyMicrosurface {
         let surface = options
             .check()
             .map_err(|e| value_error(e.message(|p| p.to_string())))?;
+        let orders = self::orders(orders)?;
+        // What the walks need (a Student-T shape of at least 1.501) is refused here, not at the
+        // first estimate.
+        surface
+            .estimator(orders)
+            .map_err(|e| value_error(e.message(|p| p.to_string())))?;
         Ok(Self {
             ndf: n,
             eta,
             surface,
-            orders: self::orders(orders)?,
+            orders,
         })
     }
 

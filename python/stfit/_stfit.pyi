@@ -139,7 +139,8 @@ class Microsurface:
     """The multiple-scattering dielectric microsurface: the height-field random walk of Heitz
     et al. 2016 on the Smith microsurface of ``ndf`` with smooth dielectric facets of index
     ``eta``, restricted to ``orders``: ``'single'`` (order 1), ``'multiple'`` (orders >= 2) or
-    ``'all'``. Its masking is height-correlated by construction."""
+    ``'all'``. Its masking is height-correlated by construction. A Student-T ``ndf`` needs
+    gamma >= 1.501 (walk lengths diverge at 3/2): a smaller shape raises ``ValueError`` here."""
 
     def __init__(self, ndf: Ndf, eta: float, orders: str = "all") -> None: ...
     @property

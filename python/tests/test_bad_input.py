@@ -443,3 +443,11 @@ def test_a_direction_just_off_unit_length_is_named_as_such():
     w = [0.30374447326405685, 0.42483036101897353, 0.8527933274358023]
     with pytest.raises(ValueError, match=r"^wm\[0\] = .*: not a unit vector \(norm 0\.99999"):
         stfit.Ggx(0.3).d(w)
+
+
+def test_a_microsurface_refuses_a_shape_its_walks_cannot_take():
+    """A Student-T shape below 1.501 is refused when the Microsurface is made, naming gamma, as
+    `stfit albedo` refuses it; it had been accepted and refused only at the first estimate."""
+    with pytest.raises(ValueError, match=r"^gamma: .*random walks need gamma >= 1\.501"):
+        stfit.Microsurface(stfit.StudentT(0.3, 1.5000001), 1.5)
+    stfit.Microsurface(stfit.StudentT(0.3, 1.501), 1.5)
