@@ -366,23 +366,13 @@ fn a_device_as_input_is_refused_before_it_is_read() {
             "{args:?}: {}",
             run.stderr
         );
-    } // A pipe is still read: the example on stdin fits.
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_stfit"))
-        .args(["/dev/stdin", "--model", "ggx"])
-        .stdin(std::process::Stdio::piped())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let example = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/fits/example.csv")).unwrap();
-    std::io::Write::write_all(&mut child.stdin.take().unwrap(), &example).unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(String::from_utf8_lossy(&out.stdout).contains("frosted"));
+    }
+    // A pipe is still read: the example on stdin fits.
+    let example =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/fits/example.csv")).unwrap();
+    let run = Cli::new(env!("CARGO_BIN_EXE_stfit"))
+        .run_with_stdin(&["/dev/stdin", "--model", "ggx"], &example);
+    assert!(run.ok().contains("frosted"));
 }
 
 /// An output folder that is an existing file is refused in words by every command that writes

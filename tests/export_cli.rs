@@ -517,21 +517,17 @@ fn a_long_radiance_export_is_announced_before_it_runs() {
     use std::io::{BufRead, BufReader};
     let dir = CaseDir::new("export-long-run");
     let out = format!("{}/", dir.join("out").display());
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_stfit"))
-        .args([
-            "export",
-            &example_fits(),
-            "--to",
-            "radiance",
-            "--sample",
-            "frosted",
-            "--model",
-            "ggx",
-            "--walks",
-            "1000000000",
-            "--out",
+    let fits = example_fits();
+    let export = |extra: &[&'static str]| {
+        let mut args = vec![
+            "export", &fits, "--to", "radiance", "--sample", "frosted", "--model", "ggx", "--out",
             &out,
-        ])
+        ];
+        args.extend_from_slice(extra);
+        args
+    };
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_stfit"))
+        .args(export(&["--walks", "1000000000"]))
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -547,20 +543,7 @@ fn a_long_radiance_export_is_announced_before_it_runs() {
             && (line.contains(" h (fewer --walks") || line.contains(" days (fewer --walks")),
         "{line}"
     );
-    let quick = cli().run(&[
-        "export",
-        &example_fits(),
-        "--to",
-        "radiance",
-        "--sample",
-        "frosted",
-        "--model",
-        "ggx",
-        "--layer",
-        "interface",
-        "--out",
-        &out,
-    ]);
+    let quick = cli().run(&export(&["--layer", "interface"]));
     assert_eq!(quick.code, Some(0), "{}", quick.stderr);
     assert!(!quick.stderr.contains("note:"), "{}", quick.stderr);
 }
