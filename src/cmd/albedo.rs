@@ -7,6 +7,7 @@ use stfit_core::Vec3;
 use stfit_core::math::radians;
 use stfit_core::walk::{
     AlbedoEstimate, DEFAULT_ALBEDO_WALKS, Estimator, WalkCost, check_walks, defined_stderr,
+    pilot_seed,
 };
 
 /// Arguments of `stfit albedo`.
@@ -59,7 +60,7 @@ pub fn run(args: &Args) -> CmdResult {
 /// Runs the walks, announcing a long run and drawing a progress bar on a terminal
 /// ([`long_run::announce`]).
 fn estimate(walk: &dyn Estimator, wi: Vec3, args: &Args) -> AlbedoEstimate {
-    let cost = WalkCost::measure(walk, wi, args.walks, long_run::pilot_seed(args.seed));
+    let cost = WalkCost::measure(walk, wi, args.walks, pilot_seed(args.seed));
     let bar = long_run::announce(cost, args.walks, args.walks);
     let progress = |n| {
         if let Some(bar) = &bar {

@@ -16,7 +16,7 @@ use stfit_core::bsdf::AnalyticBsdf;
 use stfit_core::surface::Evaluation;
 use stfit_core::walk::{
     DEFAULT_EVAL_WALKS, WalkCost, check_walks, defined_stderr, distinct_incidences,
-    eval_pairs_with_progress, walks_from_each_wo,
+    eval_pairs_with_progress, pilot_seed, walks_from_each_wo,
 };
 use stfit_fit::pairs::read_pairs;
 
@@ -100,7 +100,7 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
                 walk.as_ref(),
                 &table.pairs,
                 args.walks,
-                long_run::pilot_seed(args.seed),
+                pilot_seed(args.seed),
             );
             let bar = long_run::announce(cost, args.walks, all_walks);
             let progress = |n| {

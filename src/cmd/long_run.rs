@@ -10,12 +10,6 @@ use stfit_core::walk::{LONG_RUN_SECONDS, WalkCost, describe_seconds};
 /// Estimated time, in seconds, above which a progress bar is drawn on a terminal.
 const BAR_SECONDS: f64 = 2.0;
 
-/// The seed of a pilot run for a run from `seed`: random numbers of its own, so that a pilot
-/// never shares walks with the run.
-pub fn pilot_seed(seed: u64) -> u64 {
-    seed ^ 0x005e_ed0f_9170
-}
-
 /// Announces on stderr a run of `walks` walks of the measured `cost` if it will be long, and
 /// returns a progress bar counting `bar_walks` walks (every walk of the run) when one is worth
 /// drawing.

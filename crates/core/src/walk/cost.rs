@@ -40,6 +40,12 @@ fn pilot_cap(walks: u64, groups: usize, picked: usize) -> u64 {
     (share as u64).clamp(1, PILOT_MAX_WALKS)
 }
 
+/// The seed of a pilot run for a run from `seed`: random numbers of its own, so that a pilot
+/// never shares walks with the run (the estimates of the run are unchanged by it).
+pub fn pilot_seed(seed: u64) -> u64 {
+    seed ^ 0x005e_ed0f_9170
+}
+
 /// Estimated wall time, in seconds, above which a run is long enough to announce.
 pub const LONG_RUN_SECONDS: f64 = 10.0;
 

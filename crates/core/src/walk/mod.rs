@@ -69,7 +69,7 @@ mod null;
 
 pub use cost::{
     LONG_RUN_SECONDS, PILOT_INCIDENCES, PILOT_MAX_WALKS, PILOT_SECONDS, PILOT_SHARE, PILOT_WALKS,
-    WalkCost, describe_seconds,
+    WalkCost, describe_seconds, pilot_seed,
 };
 pub use engine::{WalkEnd, WalkSample};
 pub use estimate::{

@@ -180,7 +180,7 @@ pub fn walk_seconds(model: &ExportModel, opts: &RadianceOptions) -> Result<f64, 
         monte_carlo_sums(layer, PILOT_WALKS_PER_PATCH, seed);
         start.elapsed().as_secs_f64()
     }
-    let seed = opts.seed ^ 0x005e_ed0f_9170;
+    let seed = stfit_core::walk::pilot_seed(opts.seed);
     let pilot = match opts.layer {
         LayerKind::Pane => timed(
             &Pane::new(RoughFace::all_orders(model)?, model.eta(), opts.absorption)?,
