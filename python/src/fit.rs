@@ -42,6 +42,14 @@ fn parameter(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Parameter> {
         .map_err(|_| arg_error(name, "expected a number or 'free'"))
 }
 
+/// The `ValueError` of a walk option (`walks`, `seed`, ...) given where nothing walks.
+fn walks_only(name: &str) -> PyErr {
+    arg_error(
+        name,
+        "applies to orders='all' only (single scattering is analytic)",
+    )
+}
+
 /// The fit options of the keyword arguments, checked together (`FitOptions::check`): `eta`
 /// defaults to [`DEFAULT_ETA`] held, `scale` to free, as on the command line, and the walks of
 /// an all-orders fit are checked as `--walks` is ([`check_fit_walks`]), named `walks`. As on
@@ -79,10 +87,7 @@ fn fit_options(
             ("multiple_term", multiple_term.is_some()),
         ] {
             if given {
-                return Err(arg_error(
-                    name,
-                    "applies to orders='all' only (single scattering is analytic)",
-                ));
+                return Err(walks_only(name));
             }
         }
     }
@@ -521,12 +526,7 @@ pub fn synth(
         .map_err(|e| arg_error("masking", e))?;
     let all = orders == ScatteringOrders::All;
     let walks = match walks.map(ints::walks).transpose()? {
-        Some(_) if !all => {
-            return Err(arg_error(
-                "walks",
-                "applies to orders='all' only (single scattering is analytic)",
-            ));
-        }
+        Some(_) if !all => return Err(walks_only("walks")),
         given => given.unwrap_or(DEFAULT_WALKS),
     };
     let spec = SynthSpec {

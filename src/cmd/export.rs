@@ -173,7 +173,7 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
                 .to_string_lossy()
                 .ends_with(std::path::MAIN_SEPARATOR) =>
         {
-            stfit_fit::synth::create_folder(p)
+            stfit_fit::files::create_folder(p)
                 .map_err(|e| failed(format!("{}: cannot create the folder: {e}", p.display())))?;
             Destination::Folder(p)
         }

@@ -275,7 +275,7 @@ fn write(path: &Path, bytes: &[u8]) -> CmdResult {
 fn merge(m: &MergeArgs) -> CmdResult {
     let mut files = Vec::with_capacity(m.shards.len());
     for path in &m.shards {
-        let text = stfit_fit::load::read_input_text(path)
+        let text = stfit_fit::files::read_input_text(path)
             .map_err(|e| CmdError::Failed(format!("{}: cannot read: {e}", path.display())))?;
         files.push((path.display().to_string(), text));
     }

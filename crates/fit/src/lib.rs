@@ -26,6 +26,7 @@
 
 pub mod conventions;
 pub mod data;
+pub mod files;
 pub mod fit;
 pub mod forward;
 pub mod load;

@@ -281,7 +281,7 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
     // Each sample with the file and line of its first row, to place a sample-wide error.
     let mut samples: Vec<(Sample, &Path, Option<u64>)> = Vec::new();
     for file in &files {
-        let bytes = read_input(file).map_err(|e| io(file, e))?;
+        let bytes = crate::files::read_input(file).map_err(|e| io(file, e))?;
         let parts = if crate::pabopto::is_pabopto(&bytes) {
             let (name, points) = crate::pabopto::read_pabopto(file, &bytes)?;
             vec![(Sample { name, points }, None)]
@@ -557,38 +557,13 @@ pub(crate) fn text_fields<'r>(
         .collect()
 }
 
-/// The bytes of the input file at `path`, read whole: a regular file or a pipe (`<(...)`,
-/// `/dev/stdin`). On Unix a device or a socket is refused with an
-/// [`std::io::ErrorKind::InvalidInput`] error before anything is read: `/dev/zero` or
-/// `/dev/full` never ends, and reading one had exhausted memory.
-pub fn read_input(path: &Path) -> std::io::Result<Vec<u8>> {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        let kind = std::fs::metadata(path)?.file_type();
-        if kind.is_char_device() || kind.is_block_device() || kind.is_socket() {
-            return Err(std::io::Error::new(
-                std::io::ErrorKind::InvalidInput,
-                "not a file or a pipe (a device or a socket)",
-            ));
-        }
-    }
-    std::fs::read(path)
-}
-
-/// The text of the input file at `path` ([`read_input`]), which must be UTF-8.
-pub fn read_input_text(path: &Path) -> std::io::Result<String> {
-    String::from_utf8(read_input(path)?)
-        .map_err(|_| std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text"))
-}
-
 /// A CSV header: the line it is on and its fields.
 pub type CsvHeader = (u64, Vec<String>);
 
-/// The bytes of the CSV file at `path` and its header (its first record, as [`read_records`]
+/// The bytes of the CSV file at `path` ([`crate::files::read_input`]) and its header (its first record, as [`read_records`]
 /// reads it), or `None` for a file with none.
 pub fn read_header(path: &Path) -> Result<(Vec<u8>, Option<CsvHeader>), LoadError> {
-    let bytes = read_input(path)
+    let bytes = crate::files::read_input(path)
         .map_err(|e| LoadError::new(path, None, None, LoadErrorKind::Io(e.to_string())))?;
     let header = header_of(path, &bytes)?;
     Ok((bytes, header))

@@ -389,7 +389,7 @@ pub fn write_pabopto(
     form: PabValue,
     comment: Option<&str>,
 ) -> std::io::Result<Vec<std::path::PathBuf>> {
-    crate::synth::create_folder(dir)?;
+    crate::files::create_folder(dir)?;
     // Files in order of first appearance of (incidence, side).
     let mut files: Vec<((f64, f64, bool), Vec<u8>)> = Vec::new();
     for p in &sample.points {

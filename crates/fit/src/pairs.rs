@@ -36,7 +36,7 @@ pub fn is_unit_norm(norm: f64) -> bool {
 
 /// True for a direction's `z` that is subnormal (nonzero and below 2.2e-308 in magnitude).
 #[inline]
-pub fn is_subnormal_z(z: f64) -> bool {
+fn is_subnormal_z(z: f64) -> bool {
     z != 0.0 && z.abs() < f64::MIN_POSITIVE
 }
 

@@ -410,7 +410,7 @@ fn first_unreadable_fit(file: &serde_json::Value) -> Option<(usize, String)> {
 
 /// The text of a fits file.
 fn read_text(path: &Path) -> Result<String, FitsFileError> {
-    crate::load::read_input_text(path).map_err(|source| FitsFileError::Io {
+    crate::files::read_input_text(path).map_err(|source| FitsFileError::Io {
         path: path.display().to_string(),
         source,
     })

@@ -262,26 +262,6 @@ impl SynthSpec {
     }
 }
 
-/// Creates the output folder `dir` and its parents if missing. A path, or the nearest of its
-/// ancestors that exists, that is not a folder (a file, a device) is an
-/// [`std::io::ErrorKind::AlreadyExists`] error that names it, where `create_dir_all` says only
-/// "File exists" or "Not a directory".
-pub fn create_folder(dir: &Path) -> std::io::Result<()> {
-    // Without a trailing separator, which makes a file's path not exist at all.
-    let bare = dir.components().as_path();
-    if let Some(existing) = bare.ancestors().find(|a| a.exists())
-        && !existing.is_dir()
-    {
-        let what = if existing == bare {
-            "exists and is not a folder".to_owned()
-        } else {
-            format!("{} exists and is not a folder", existing.display())
-        };
-        return Err(std::io::Error::new(std::io::ErrorKind::AlreadyExists, what));
-    }
-    std::fs::create_dir_all(dir)
-}
-
 /// Writes `samples` with `comment` to the file at `path`: replacing it, or with `append`
 /// adding the rows to it (creating it if needed; an existing file must be a regular file,
 /// start with the header [`write_csv`] writes, read by the loader's rules, and end with a line

@@ -89,7 +89,7 @@ impl Report {
             let path = path.to_path_buf();
             move |source| ReportError::Io { path, source }
         };
-        stfit_fit::synth::create_folder(dir).map_err(io(dir))?;
+        stfit_fit::files::create_folder(dir).map_err(io(dir))?;
         self.files
             .iter()
             .map(|f| {

@@ -1,0 +1,50 @@
+//! Files in and out, for every reader and writer of the workspace: input files read whole
+//! (files and pipes, never a device) and output folders created with a message that says what
+//! is in the way.
+
+use std::path::Path;
+
+/// The bytes of the input file at `path`, read whole: a regular file or a pipe (`<(...)`,
+/// `/dev/stdin`). On Unix a device or a socket is refused with an
+/// [`std::io::ErrorKind::InvalidInput`] error before anything is read: `/dev/zero` or
+/// `/dev/full` never ends, and reading one had exhausted memory.
+pub fn read_input(path: &Path) -> std::io::Result<Vec<u8>> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let kind = std::fs::metadata(path)?.file_type();
+        if kind.is_char_device() || kind.is_block_device() || kind.is_socket() {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "not a file or a pipe (a device or a socket)",
+            ));
+        }
+    }
+    std::fs::read(path)
+}
+
+/// The text of the input file at `path` ([`read_input`]), which must be UTF-8.
+pub fn read_input_text(path: &Path) -> std::io::Result<String> {
+    String::from_utf8(read_input(path)?)
+        .map_err(|_| std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text"))
+}
+
+/// Creates the output folder `dir` and its parents if missing. A path, or the nearest of its
+/// ancestors that exists, that is not a folder (a file, a device) is an
+/// [`std::io::ErrorKind::AlreadyExists`] error that names it, where `create_dir_all` says only
+/// "File exists" or "Not a directory".
+pub fn create_folder(dir: &Path) -> std::io::Result<()> {
+    // Without a trailing separator, which makes a file's path not exist at all.
+    let bare = dir.components().as_path();
+    if let Some(existing) = bare.ancestors().find(|a| a.exists())
+        && !existing.is_dir()
+    {
+        let what = if existing == bare {
+            "exists and is not a folder".to_owned()
+        } else {
+            format!("{} exists and is not a folder", existing.display())
+        };
+        return Err(std::io::Error::new(std::io::ErrorKind::AlreadyExists, what));
+    }
+    std::fs::create_dir_all(dir)
+}
