@@ -1,5 +1,6 @@
 //! Fitting a microfacet model to one sample: variable projection of the scale, multi-start
-//! local minimisation over the shape, and heteroscedasticity-robust standard errors (sandwich)
+//! local minimisation over the shape (with eta free, also from every piece between the jumps
+//! of the cost in eta: `hop_eta`), and heteroscedasticity-robust standard errors (sandwich)
 //! at the optimum.
 //!
 //! The model is [`Model`]'s ([`crate::forward`] evaluates it). With orders `single` it is
@@ -83,6 +84,8 @@ const GAMMA_GRID: [f64; 5] = [1.7, 2.2, 3.2, 6.0, 20.0];
 const ETA_GRID: [f64; 4] = [1.3, 1.45, 1.6, 1.8];
 /// Local optimisations are started from at most this many grid local minima.
 const MAX_STARTS: usize = 3;
+/// Most rounds of [`hop_eta`]'s scan of the pieces of the eta axis.
+const ETA_HOP_ROUNDS: usize = 4;
 /// Step of the orders >= 2 surrogate's design in `ln alpha` ([`crate::surrogate`]).
 const SURROGATE_STEP_ALPHA: f64 = 0.12;
 /// Step in `ln(gamma - 3/2)`.
@@ -686,6 +689,7 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
             multi: None,
         };
         let (best, iterations) = search(&eval, eval.starts())?;
+        let (best, iterations) = hop_eta(&eval, best, iterations)?;
         return finish(&eval, &best.x, iterations, None);
     }
     // Multiple scattering is a correction to single scattering: start from the optimum of the
@@ -794,6 +798,62 @@ fn search(
             Parameter::Free => None,
         },
     })?;
+    Ok((best, iterations))
+}
+
+/// With eta free, the best local minimum of `eval`'s cost from `best` across the jumps of the
+/// cost in eta. The single-scattering model of a transmission pair jumps where its refraction
+/// half vector turns horizontal ([`Forward::horizontal_etas`]; by `D` of horizontal facets,
+/// which is not zero for GGX and for Student-T with gamma <= 2), so a local search stays in the
+/// piece between two such indices where it started, and the starting grid's few indices can
+/// miss the piece of the optimum. The cost is evaluated at the middle of every piece (in
+/// `ln(eta - 1)`) at `best`'s alpha and gamma, and local searches start from the pieces that
+/// beat `best`, best first (at most [`MAX_STARTS`]), until none finds a lower cost (at most
+/// [`ETA_HOP_ROUNDS`] times). With eta held, `best` as it is.
+fn hop_eta(
+    eval: &Evaluator,
+    mut best: crate::optimize::Minimum,
+    mut iterations: u64,
+) -> Result<(crate::optimize::Minimum, u64), FitError> {
+    if !eval.shape.eta.is_free() {
+        return Ok((best, iterations));
+    }
+    let (lo, hi) = ((ETA_MIN - 1.0).ln(), (ETA_MAX - 1.0).ln());
+    let mut ends = vec![lo];
+    ends.extend(
+        eval.prep
+            .forward
+            .horizontal_etas(ETA_MIN, ETA_MAX)
+            .iter()
+            .map(|e| (e - 1.0).ln()),
+    );
+    ends.push(hi);
+    let middles: Vec<f64> = ends.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
+    for _ in 0..ETA_HOP_ROUNDS {
+        let at = eval.shape.point(&best.x);
+        let mut below: Vec<(f64, Vec<f64>)> = middles
+            .par_iter()
+            .map(|&m| {
+                let x = eval.shape.coords(Point {
+                    eta: 1.0 + m.exp(),
+                    ..at
+                });
+                (eval.cost(&x), x)
+            })
+            .filter(|(c, _)| *c < best.cost)
+            .collect();
+        if below.is_empty() {
+            break;
+        }
+        below.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let starts = below.into_iter().take(MAX_STARTS).map(|(_, x)| x).collect();
+        let (found, it) = search(eval, starts)?;
+        iterations += it;
+        if found.cost >= best.cost {
+            break;
+        }
+        best = found;
+    }
     Ok((best, iterations))
 }
 

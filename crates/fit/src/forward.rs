@@ -168,6 +168,22 @@ impl Forward {
         self.orders == ScatteringOrders::All
     }
 
+    /// The glass indices strictly between `lo` and `hi` at which a transmission pair's
+    /// refraction half vector is horizontal ([`HalfVector::horizontal_eta`]), ascending and
+    /// distinct: between two of them the single-scattering model is smooth in eta, across
+    /// one it can jump.
+    pub fn horizontal_etas(&self, lo: f64, hi: f64) -> Vec<f64> {
+        let mut etas: Vec<f64> = self
+            .pairs
+            .iter()
+            .filter_map(|&(wi, wo)| HalfVector::horizontal_eta(wi, wo))
+            .filter(|&e| e > lo && e < hi)
+            .collect();
+        etas.sort_by(f64::total_cmp);
+        etas.dedup();
+        etas
+    }
+
     /// The measured quantity per unit BSDF value of pair `j` for glass index `eta`.
     fn q(&self, j: usize, eta: f64) -> f64 {
         match self.quantity[j] {

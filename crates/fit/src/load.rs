@@ -560,8 +560,8 @@ pub(crate) fn text_fields<'r>(
 /// A CSV header: the line it is on and its fields.
 pub type CsvHeader = (u64, Vec<String>);
 
-/// The bytes of the CSV file at `path` ([`crate::files::read_input`]) and its header (its first record, as [`read_records`]
-/// reads it), or `None` for a file with none.
+/// The bytes of the CSV file at `path` ([`crate::files::read_input`]) and its header (its
+/// first record, as the loader reads it), or `None` for a file with none.
 pub fn read_header(path: &Path) -> Result<(Vec<u8>, Option<CsvHeader>), LoadError> {
     let bytes = crate::files::read_input(path)
         .map_err(|e| LoadError::new(path, None, None, LoadErrorKind::Io(e.to_string())))?;

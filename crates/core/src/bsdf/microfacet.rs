@@ -212,6 +212,22 @@ impl HalfVector {
         Some(hv)
     }
 
+    /// The glass index at which the refraction half vector of the transmission pair `(wi, wo)`
+    /// (one direction above the macro-surface, one below) lies in the macro-surface:
+    /// `|w_above.z| / |w_below.z|`, where `(n_i wi + n_o wo).z = 0`. Where the pair has a
+    /// refracting facet on one side of this index, that facet turns horizontal at it and the
+    /// pair has none on the other side ([`HalfVector::new`] is `None`): the single-scattering
+    /// BSDF of the pair jumps there from `D` at horizontal facets (not zero for GGX and for
+    /// Student-T with `gamma <= 2`) to zero. `None` for a reflection pair or a grazing
+    /// direction.
+    pub fn horizontal_eta(wi: Vec3, wo: Vec3) -> Option<f64> {
+        if wi.z * wo.z >= 0.0 {
+            return None;
+        }
+        let (above, below) = if wi.z > 0.0 { (wi, wo) } else { (wo, wi) };
+        Some(above.z / -below.z)
+    }
+
     /// The half vector for given indices and lobe, oriented so that `h.toward > 0` (`toward`
     /// not perpendicular to it); `None` for a zero or non-finite vector.
     #[inline]
@@ -392,6 +408,42 @@ mod tests {
         let hv = HalfVector::new(wi, wo, 1.5).unwrap();
         assert!((hv.h - m).norm() < 1e-12, "{:?} vs {m:?}", hv.h);
         assert!(!hv.reflect);
+    }
+
+    /// Across its `horizontal_eta` a transmission pair gains or loses its refracting facet,
+    /// which is nearly horizontal there, with light from above or from below; reflection
+    /// pairs have no such index.
+    #[test]
+    fn horizontal_eta_is_where_refraction_of_the_pair_starts_or_ends() {
+        let above = Vec3::new(0.5, 0.1, 0.8).normalize();
+        // Refraction ends below the index for this pair, starts below it for the other.
+        let pairs = [
+            Vec3::new(-0.6, -0.1, -0.5).normalize(),
+            Vec3::new(-0.2, 0.0, -0.8).normalize(),
+        ];
+        for (k, below) in pairs.into_iter().enumerate() {
+            for (wi, wo) in [(above, below), (below, above)] {
+                let eta = HalfVector::horizontal_eta(wi, wo).unwrap();
+                assert!((eta - above.z / -below.z).abs() < 1e-15);
+                let (lower, upper) = (
+                    HalfVector::new(wi, wo, eta * (1.0 - 1e-9)),
+                    HalfVector::new(wi, wo, eta * (1.0 + 1e-9)),
+                );
+                let hv = if k == 0 {
+                    assert!(lower.is_none());
+                    upper.unwrap()
+                } else {
+                    assert!(upper.is_none());
+                    lower.unwrap()
+                };
+                assert!(!hv.reflect && hv.h.z > 0.0 && hv.h.z < 1e-8, "{:?}", hv.h);
+            }
+        }
+        assert_eq!(HalfVector::horizontal_eta(above, Vec3::z()), None);
+        assert_eq!(
+            HalfVector::horizontal_eta(Vec3::new(1.0, 0.0, 0.0), pairs[0]),
+            None
+        );
     }
 
     /// The Beta function of the correlated transmission masking: `B(1, b) = 1 / b`, and
