@@ -86,6 +86,10 @@ const ETA_GRID: [f64; 4] = [1.3, 1.45, 1.6, 1.8];
 const MAX_STARTS: usize = 3;
 /// Most rounds of [`hop_eta`]'s scan of the pieces of the eta axis.
 const ETA_HOP_ROUNDS: usize = 4;
+/// Most pieces [`hop_eta`] scans one by one: a sample whose transmitted points cut the eta
+/// axis into more is scanned at this many even steps of `ln(eta - 1)` instead, so that a scan
+/// costs about as much as one local search.
+const ETA_PIECES_MAX: usize = 128;
 /// Step of the orders >= 2 surrogate's design in `ln alpha` ([`crate::surrogate`]).
 const SURROGATE_STEP_ALPHA: f64 = 0.12;
 /// Step in `ln(gamma - 3/2)`.
@@ -807,9 +811,10 @@ fn search(
 /// which is not zero for GGX and for Student-T with gamma <= 2), so a local search stays in the
 /// piece between two such indices where it started, and the starting grid's few indices can
 /// miss the piece of the optimum. The cost is evaluated at the middle of every piece (in
-/// `ln(eta - 1)`) at `best`'s alpha and gamma, and local searches start from the pieces that
-/// beat `best`, best first (at most [`MAX_STARTS`]), until none finds a lower cost (at most
-/// [`ETA_HOP_ROUNDS`] times). With eta held, `best` as it is.
+/// `ln(eta - 1)`; at even steps when there are more than [`ETA_PIECES_MAX`]) at `best`'s
+/// alpha and gamma, and local searches start from the points that beat `best`, best first (at
+/// most [`MAX_STARTS`]), until none finds a lower cost (at most [`ETA_HOP_ROUNDS`] times).
+/// With eta held, `best` as it is.
 fn hop_eta(
     eval: &Evaluator,
     mut best: crate::optimize::Minimum,
@@ -818,17 +823,7 @@ fn hop_eta(
     if !eval.shape.eta.is_free() {
         return Ok((best, iterations));
     }
-    let (lo, hi) = ((ETA_MIN - 1.0).ln(), (ETA_MAX - 1.0).ln());
-    let mut ends = vec![lo];
-    ends.extend(
-        eval.prep
-            .forward
-            .horizontal_etas(ETA_MIN, ETA_MAX)
-            .iter()
-            .map(|e| (e - 1.0).ln()),
-    );
-    ends.push(hi);
-    let middles: Vec<f64> = ends.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
+    let middles = eta_scan(&eval.prep.forward.horizontal_etas(ETA_MIN, ETA_MAX));
     for _ in 0..ETA_HOP_ROUNDS {
         let at = eval.shape.point(&best.x);
         let mut below: Vec<(f64, Vec<f64>)> = middles
@@ -855,6 +850,25 @@ fn hop_eta(
         best = found;
     }
     Ok((best, iterations))
+}
+
+/// The points of `ln(eta - 1)` that [`hop_eta`] scans, given the ascending indices in
+/// `(ETA_MIN, ETA_MAX)` where the cost jumps: the middle of every piece of the search range
+/// they cut, or, for more than [`ETA_PIECES_MAX`] pieces, that many even steps.
+fn eta_scan(jumps: &[f64]) -> Vec<f64> {
+    let (lo, hi) = ((ETA_MIN - 1.0).ln(), (ETA_MAX - 1.0).ln());
+    if jumps.len() < ETA_PIECES_MAX {
+        let mut ends = vec![lo];
+        ends.extend(jumps.iter().map(|e| (e - 1.0).ln()));
+        ends.push(hi);
+        ends.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect()
+    } else {
+        // Many points, each of whose jump is small: an even scan of the whole range.
+        let n = ETA_PIECES_MAX as f64;
+        (0..ETA_PIECES_MAX)
+            .map(|k| lo + (hi - lo) * (k as f64 + 0.5) / n)
+            .collect()
+    }
 }
 
 /// The fit at search coordinates `x`: scale, rmse and standard errors. With `exact`, the walk
@@ -1273,6 +1287,29 @@ fn invert_spd(a: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The eta scan puts one point strictly inside every piece between the jumps, and at most
+    /// `ETA_PIECES_MAX` points, evenly spread over the whole range, when the jumps are more.
+    #[test]
+    fn eta_scan_has_a_point_in_every_piece_or_an_even_cover() {
+        let x = |e: f64| (e - 1.0).ln();
+        let jumps = [1.2, 1.4, 1.407, 2.5];
+        let scan = eta_scan(&jumps);
+        let mut ends = vec![ETA_MIN];
+        ends.extend(jumps);
+        ends.push(ETA_MAX);
+        assert_eq!(scan.len(), ends.len() - 1);
+        for (m, w) in scan.iter().zip(ends.windows(2)) {
+            assert!(x(w[0]) < *m && *m < x(w[1]), "{m} not in {w:?}");
+        }
+        assert_eq!(eta_scan(&[]).len(), 1);
+        let many: Vec<f64> = (1..1000).map(|k| 1.05 + 1.95 * k as f64 / 1000.0).collect();
+        let scan = eta_scan(&many);
+        assert_eq!(scan.len(), ETA_PIECES_MAX);
+        let step = (x(ETA_MAX) - x(ETA_MIN)) / ETA_PIECES_MAX as f64;
+        assert!((scan[0] - x(ETA_MIN) - step / 2.0).abs() < 1e-12);
+        assert!(scan.windows(2).all(|w| (w[1] - w[0] - step).abs() < 1e-12));
+    }
 
     #[test]
     fn invert_spd_inverts() {
