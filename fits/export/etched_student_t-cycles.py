@@ -1,5 +1,5 @@
 # stfit export 0.2.0: sample 'etched', student-t, rmse sqrt(L) 0.0066 over 300 points of fits/example.csv, fitted by stfit 0.2.0
-# fitted model: student-t alpha 0.44913583584205224 gamma 2.591938662304212, eta 1.51, separable masking, orders single; the fit's scale 0.9996668759082544 is a calibration factor, not applied
+# fitted model: student-t alpha 0.44913583584205224 gamma 2.591938662304212, eta 1.51, separable masking, orders single; the fit's scale 0.9996668759082551 is a calibration factor, not applied
 # Cycles Glass BSDF: alpha = Roughness^2 (intern/cycles/kernel/svm/closure.h)
 # Cycles Principled BSDF, white with Transmission Weight 1 and white Specular Tint: the same GGX glass closure, real dielectric Fresnel (closure.h, bsdf_microfacet.h)
 # translation: fitted over the sphere of directions (Nelder-Mead); rmse sqrt(L): 0.0382 over the sphere of directions, 0.0618 over the measurement grid

@@ -1,5 +1,5 @@
 # stfit export 0.2.0: sample 'frosted', student-t, rmse sqrt(L) 0.0094 over 300 points of fits/example.csv, fitted by stfit 0.2.0
-# fitted model: student-t alpha 0.20016296817464857 gamma 3.010287782901894, eta 1.51, separable masking, orders single; the fit's scale 0.9991075247288614 is a calibration factor, not applied
+# fitted model: student-t alpha 0.20016296817464857 gamma 3.010287782901894, eta 1.51, separable masking, orders single; the fit's scale 0.999107524728862 is a calibration factor, not applied
 # Cycles Glass BSDF: alpha = Roughness^2 (intern/cycles/kernel/svm/closure.h)
 # Cycles Principled BSDF, white with Transmission Weight 1 and white Specular Tint: the same GGX glass closure, real dielectric Fresnel (closure.h, bsdf_microfacet.h)
 # translation: fitted over the sphere of directions (Nelder-Mead); rmse sqrt(L): 0.0533 over the sphere of directions, 0.0841 over the measurement grid

@@ -1,5 +1,5 @@
 # stfit export 0.2.0: sample 'frosted', student-t (gamma = 3), rmse sqrt(L) 0.0094 over 300 points of fits/example.csv, fitted by stfit 0.2.0
-# fitted model: student-t alpha 0.2000964969655234 gamma 3 (held fixed), eta 1.51, separable masking, orders single; the fit's scale 0.9990759971276693 is a calibration factor, not applied
+# fitted model: student-t alpha 0.2000964969655234 gamma 3 (held fixed), eta 1.51, separable masking, orders single; the fit's scale 0.9990759971276719 is a calibration factor, not applied
 # Cycles Glass BSDF: alpha = Roughness^2 (intern/cycles/kernel/svm/closure.h)
 # Cycles Principled BSDF, white with Transmission Weight 1 and white Specular Tint: the same GGX glass closure, real dielectric Fresnel (closure.h, bsdf_microfacet.h)
 # translation: fitted over the sphere of directions (Nelder-Mead); rmse sqrt(L): 0.0530 over the sphere of directions, 0.0836 over the measurement grid

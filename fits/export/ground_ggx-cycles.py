@@ -1,5 +1,5 @@
 # stfit export 0.2.0: sample 'ground', ggx, rmse sqrt(L) 0.0418 over 300 points of fits/example.csv, fitted by stfit 0.2.0
-# fitted model: ggx alpha 0.3600539896675496, eta 1.51, separable masking, orders single; the fit's scale 0.9682981013553259 is a calibration factor, not applied
+# fitted model: ggx alpha 0.3600539896675496, eta 1.51, separable masking, orders single; the fit's scale 0.9682981013553267 is a calibration factor, not applied
 # Cycles Glass BSDF: alpha = Roughness^2 (intern/cycles/kernel/svm/closure.h)
 # Cycles Principled BSDF, white with Transmission Weight 1 and white Specular Tint: the same GGX glass closure, real dielectric Fresnel (closure.h, bsdf_microfacet.h)
 # translation: NDF mapped exactly; error from the renderer's masking term; rmse sqrt(L): 0.0081 over the sphere of directions, 0.0033 over the measurement grid

@@ -1,5 +1,5 @@
 # stfit export 0.2.0: sample 'ground', student-t, rmse sqrt(L) 0.0055 over 300 points of fits/example.csv, fitted by stfit 0.2.0
-# fitted model: student-t alpha 0.3516738806676205 gamma 1.8003822005303516, eta 1.51, separable masking, orders single; the fit's scale 1.0022511682797133 is a calibration factor, not applied
+# fitted model: student-t alpha 0.3516738806676205 gamma 1.8003822005303516, eta 1.51, separable masking, orders single; the fit's scale 1.0022511682797117 is a calibration factor, not applied
 # Cycles Glass BSDF: alpha = Roughness^2 (intern/cycles/kernel/svm/closure.h)
 # Cycles Principled BSDF, white with Transmission Weight 1 and white Specular Tint: the same GGX glass closure, real dielectric Fresnel (closure.h, bsdf_microfacet.h)
 # translation: fitted over the sphere of directions (Nelder-Mead); rmse sqrt(L): 0.0244 over the sphere of directions, 0.0436 over the measurement grid

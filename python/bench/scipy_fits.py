@@ -6,7 +6,7 @@ It does what stfit does (theory.md sections 2, 3, 5 and 8): Walter et al.'s tran
 with separable Smith masking and exact Fresnel, L = scale f_t cos(theta_i) / eta^2 with eta 1.51,
 least squares on sqrt(L) with the scale projected out in closed form, Nelder-Mead in
 (ln alpha, ln(gamma - 3/2)) from the local minima of the same starting grid (at most 3), and
-HC1 sandwich standard errors from a central-difference Jacobian.
+HC3 sandwich standard errors from a central-difference Jacobian.
 
 Usage: python3 python/bench/scipy_fits.py ../shared/data/walter2007/measurements.csv
 """
@@ -131,7 +131,7 @@ def fit(kind, gamma_fixed, geo, y):
     q = np.sqrt(model(kind, geo, alpha, gamma))
     c = (y * q).sum() / (q * q).sum()
     scale = c * c
-    # HC1 sandwich standard errors of (alpha, [gamma], scale).
+    # HC3 sandwich standard errors of (alpha, [gamma], scale).
     theta = [alpha] + ([gamma] if free_gamma else [])
     cols = []
     for i, v in enumerate(theta):
@@ -147,9 +147,10 @@ def fit(kind, gamma_fixed, geo, y):
     jac = np.stack(cols, axis=1)
     r = y - np.sqrt(scale * m)
     bread = np.linalg.inv(jac.T @ jac)
-    meat = (jac * (r * r)[:, None]).T @ jac
-    n, p = jac.shape
-    se = np.sqrt(np.diag(n / (n - p) * bread @ meat @ bread))
+    leverage = np.einsum("ij,jk,ik->i", jac, bread, jac)
+    rj = r / (1.0 - leverage)
+    meat = (jac * (rj * rj)[:, None]).T @ jac
+    se = np.sqrt(np.diag(bread @ meat @ bread))
     rmse = np.sqrt((r * r).mean())
     return alpha, gamma, scale, rmse, se
 
