@@ -3,11 +3,12 @@
 //!
 //! - [`single`]: the single-scattering albedo by deterministic quadrature;
 //! - [`spec`] and [`grid`]: what a table holds and where its nodes are;
-//! - [`compute`]: the parallel, deterministic computation of a table or a shard of it, with the
-//!   random walks for orders >= 2;
+//! - [`compute`](mod@compute): the parallel, deterministic computation of a table or a shard of
+//!   it, with the random walks for orders >= 2;
 //! - [`options`]: the options of `stfit tables` and `stfit.tables`, their defaults and checks,
 //!   and the run that computes and encodes the file they ask for;
-//! - [`format`]: CSV, NumPy `.npy`, C headers in Cycles' layout, and shard files with their merge.
+//! - [`format`](mod@format): CSV, NumPy `.npy`, C headers in Cycles' layout, and shard files
+//!   with their merge.
 
 pub mod compute;
 pub mod error;

@@ -496,8 +496,8 @@ pub fn single_scattering<N: TableNdf>(
 }
 
 /// The cosine-weighted average `E_avg = 2 integral_0^1 E(mu) mu dmu` of [`single_scattering`],
-/// by Gauss-Legendre in `mu` (after [`smoothstep`]) on pieces split where the structure of the
-/// integrand changes with `mu` when light is in the denser medium (see [`mu_cuts`]).
+/// by Gauss-Legendre in `mu` (after a smoothstep substitution) on pieces split where the
+/// structure of the integrand changes with `mu` when light is in the denser medium.
 pub fn average<N: TableNdf>(
     ndf: &N,
     interface: Interface,

@@ -170,8 +170,8 @@ fn slope_above<R: Rng + ?Sized>(a: f64, rng: &mut R) -> f64 {
 impl Beckmann {
     /// The visible normal seen from `w` that the uniforms `u` in `[0, 1)^2` map to (as pbrt-v4's
     /// `Sample_wm(w, u)`): `u[0]` is the quantile of the stretched visible x-slope (its CDF
-    /// inverted exactly, [`visible_slope_x`]), `u[1]` that of the Gaussian y-slope. Uniform `u`
-    /// gives exactly the density [`Ndf::d_visible`], for every `w` on the sphere.
+    /// inverted exactly), `u[1]` that of the Gaussian y-slope. Uniform `u` gives exactly the
+    /// density [`Ndf::d_visible`], for every `w` on the sphere.
     /// [`Ndf::sample_visible`] draws the same distribution faster, by rejection above the
     /// horizon, so the two do not map a generator's numbers to the same normals.
     ///
@@ -446,7 +446,7 @@ impl Ndf for Beckmann {
     /// `(erf(a) - 1) / 2 + exp(-a^2) / (2 a sqrt(pi))`, `a = cot theta / alpha`, extended below
     /// the horizon by `Lambda(-w) = -1 - Lambda(w)`. `a^2 = w.z^2 / (alpha^2 sin^2)` needs no
     /// square root, so the exponential starts after a single division
-    /// ([`lambda_beckmann_sq`]). Where `a^2` underflows (within 1e-100 of the horizon) it is
+    /// (`lambda_beckmann_sq`). Where `a^2` underflows (within 1e-100 of the horizon) it is
     /// `1/(2 a sqrt(pi)) - 1/2`, exact to `O(a)`, with `a` formed directly.
     fn lambda(&self, w: Vec3) -> f64 {
         let ia2 = self.inv_alpha * self.inv_alpha;

@@ -467,7 +467,7 @@ impl<'a> BetaCf<'a> {
 
 impl Ndf for StudentT {
     /// `(1 + tan^2 / ((g-1) alpha^2))^-g / (pi alpha^2 cos^4)`: the power by one exponential
-    /// (by [`int_pow`] for integer shapes up to [`StudentT::MAX_POWER`]), divided by `cos^4`
+    /// (by `int_pow` for integer shapes up to [`StudentT::MAX_POWER`]), divided by `cos^4`
     /// where neither leaves the normal range (`cos^2 > 1e-100` and the power above
     /// `e^-700`), and otherwise all in log form, `exp(-2 ln cos^2 - g ln(...))`, so that
     /// `cos^-4` cannot overflow at grazing normals (where D diverges like `cos^(2g-4)` for

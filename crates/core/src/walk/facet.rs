@@ -215,7 +215,7 @@ impl Facet for DielectricFacet {
     /// Closed form (Walter et al. 2007 through the visible-normal density): with `h` the
     /// (generalised) half vector, reflection gives `F D_vis(h) / (4 |wi.h|)` and transmission
     /// `(1 - F) D_vis(h) |wo.h| n_o^2 / (n_i wi.h + n_o wo.h)^2`
-    /// ([`HalfVector::dielectric_weight`]).
+    /// (`HalfVector::dielectric_weight`).
     ///
     /// The geometric checks need only the signs of `wi.v` and `wo.v` for the unnormalised half
     /// vector `v = |v| h`, so the normalisation (whose square root and division run side by

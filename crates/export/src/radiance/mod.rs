@@ -161,11 +161,11 @@ pub fn klems(
 /// Walks per patch of the pilot run of [`walk_seconds`].
 const PILOT_WALKS_PER_PATCH: u64 = 256;
 
-/// Estimated wall time, in seconds, of the random walks of [`klems`] for `model` under `opts`
-/// on rayon's current pool, for a note before a long export: 0 where the layer has no walks
-/// (the interface of a single-scattering fit) and where the run has at most 16 times the walks
-/// of a pilot of [`PILOT_WALKS_PER_PATCH`] per patch; otherwise the wall time of that pilot
-/// (random numbers of its own; the export is unchanged) scaled by the ratio of walks.
+/// Estimated wall time, in seconds, of the random walks of [`fn@klems`] for `model` under
+/// `opts` on rayon's current pool, for a note before a long export: 0 where the layer has no
+/// walks (the interface of a single-scattering fit) and where the run has at most 16 times the
+/// 256 walks per patch of a pilot run; otherwise the wall time of that pilot (random numbers of
+/// its own; the export is unchanged) scaled by the ratio of walks.
 pub fn walk_seconds(model: &ExportModel, opts: &RadianceOptions) -> Result<f64, ExportError> {
     opts.check()?;
     let run = matrices::strata_per_side(opts.walks_per_patch).pow(2);
@@ -212,7 +212,7 @@ fn interface_quadrature(
     }
 }
 
-/// Computes the Klems matrices of the model's layer ([`klems`]) and writes the WINDOW XML
+/// Computes the Klems matrices of the model's layer ([`fn@klems`]) and writes the WINDOW XML
 /// file, naming the material `name`.
 pub fn export(
     model: &ExportModel,

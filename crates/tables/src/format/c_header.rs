@@ -43,9 +43,9 @@ fn array(out: &mut String, name: &str, values: &[f64], row: usize, slice: usize)
 
 /// The header text of a table: for each side, `<prefix>_E` (the single-scattering albedo,
 /// `[gamma][eta][mu][alpha]` flattened with alpha fastest), `<prefix>_Eavg`
-/// (`[gamma][eta][alpha]`), and with walks the walk columns of [`quantity_columns`]
-/// (`<prefix>_E_all`, `<prefix>_E_all_stderr`, ... or `..._ms`) laid out like `_E`. With one gamma this is Cycles' 16 x 16 x 16 layout: `x`
-/// roughness, `y` mu, `z` the ior parameter.
+/// (`[gamma][eta][alpha]`), and with walks the walk columns (`<prefix>_E_all`,
+/// `<prefix>_E_all_stderr`, ... or `..._ms`) laid out like `_E`. With one gamma this is Cycles'
+/// 16 x 16 x 16 layout: `x` roughness, `y` mu, `z` the ior parameter.
 pub fn write(table: &Table) -> String {
     let spec = &table.spec;
     let [_, n_gamma, n_eta, n_mu, n_alpha] = spec.shape();

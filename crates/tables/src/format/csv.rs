@@ -7,8 +7,9 @@ use std::fmt::Write;
 /// The CSV text of a table: the columns `surface, ndf, masking, side, alpha, gamma, eta, k, mu`
 /// describe the cell (`gamma` is empty for Beckmann and 2 for GGX; `eta` and `k` are the
 /// dielectric's `n_inside / n_outside` and 0, the conductor's `n` and `k`, or empty for mirror
-/// facets), then the quantities of [`super::quantity_columns`]. Numbers are written in the
-/// shortest form that reads back to the same `f64` (Rust's `{:?}`: `0.5`, `2.0`, `1e-8`).
+/// facets), then the quantity columns (`E_ss`, `R_ss`, ..., as tables-format.md lists them).
+/// Numbers are written in the shortest form that reads back to the same `f64` (Rust's `{:?}`:
+/// `0.5`, `2.0`, `1e-8`).
 pub fn write(table: &Table) -> String {
     let spec = &table.spec;
     let quantities = quantity_columns(spec);

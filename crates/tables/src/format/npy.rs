@@ -25,7 +25,7 @@ fn text_len(ty: &str) -> usize {
 /// mu, alpha)` (an axis that does not apply has length 1) whose records hold `side` (`|u1`: 0
 /// outside, 1 inside), `surface`, `ndf` and `masking` (byte strings, the CSV's names), the
 /// cell's `alpha`, `gamma` (not for Beckmann), `eta` (not for mirrors), `k` (conductors), `mu`,
-/// then the quantities of [`super::quantity_columns`], each little-endian `f8`.
+/// then the CSV's quantity columns in the same order, each little-endian `f8`.
 pub fn write(table: &Table) -> Vec<u8> {
     let spec = &table.spec;
     let quantities = quantity_columns(spec);
