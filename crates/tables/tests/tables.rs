@@ -153,6 +153,31 @@ fn shards_merged_equal_one_run_byte_for_byte() {
     assert!(err.starts_with("junk.json: not a shard file"), "{err}");
 }
 
+/// A shard whose count is far beyond the table's lines (an edited file) is refused, naming the
+/// file, before anything is sized by that count: a count of 1e18 had panicked ("capacity
+/// overflow").
+#[test]
+fn a_shard_count_beyond_the_table_is_refused_not_allocated() {
+    let s = spec(Family::Ggx, ScatteringOrders::Single);
+    let sh = Shard { index: 1, count: 1 };
+    let lines = compute::compute(&s, sh, &Quadrature::default(), &|_| {}).unwrap();
+    let text = shard::write(&s, sh, &lines).unwrap();
+    for count in ["1000000000000000000", "18446744073709551615"] {
+        let edited = text.replace(
+            "\"shard\":{\"index\":1,\"count\":1}",
+            &format!("\"shard\":{{\"index\":1,\"count\":{count}}}"),
+        );
+        assert_ne!(edited, text);
+        let err = shard::merge(&[("huge.json".into(), edited)])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.starts_with("huge.json: ") && err.contains("the table has only"),
+            "{err}"
+        );
+    }
+}
+
 #[test]
 fn every_line_is_in_exactly_one_shard() {
     let s = spec(Family::StudentT, ScatteringOrders::Single);

@@ -72,6 +72,11 @@ pub fn merge(files: &[(String, String)]) -> Result<Table, ShardError> {
         file.spec
             .check()
             .map_err(|e| mismatch(format!("invalid table specification: {e}")))?;
+        // Before anything is sized by the count: a count beyond the table's lines (1e18) is
+        // refused here, not allocated.
+        file.shard
+            .check(file.spec.lines())
+            .map_err(|e| mismatch(e.to_string()))?;
         let (spec, count) = reference.get_or_insert_with(|| {
             seen = vec![None; file.shard.count];
             (file.spec.clone(), file.shard.count)
