@@ -352,6 +352,14 @@ impl FitsFile {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let json = |e: serde_json::Error| FitsFileError::Json(source.to_owned(), e.to_string());
         let value: serde_json::Value = serde_json::from_str(text).map_err(json)?;
+        // Only an object: serde would also take the array `[version, fits]`, which is not the
+        // format and would pass any version unchecked.
+        if !value.is_object() {
+            return Err(FitsFileError::Json(
+                source.to_owned(),
+                "expected a JSON object with the keys \"version\" and \"fits\"".to_owned(),
+            ));
+        }
         match value.get("version") {
             None if value.get("fits").is_some() => {
                 return Err(FitsFileError::Unversioned(source.to_owned()));
@@ -361,7 +369,10 @@ impl FitsFile {
                     Some(n) => FitsFileError::Version(source.to_owned(), n),
                     None => FitsFileError::Json(
                         source.to_owned(),
-                        format!("\"version\" must be a number, got {v}"),
+                        format!(
+                            "\"version\" must be a whole number (this stfit reads version \
+                             {FITS_VERSION}), got {v}"
+                        ),
                     ),
                 });
             }
@@ -615,6 +626,40 @@ mod tests {
                 .collect()
         };
         assert_eq!(keys(example), keys(&file.to_json()));
+    }
+
+    /// Only a JSON object is a fits file: the array `[version, fits]`, which serde would
+    /// read as the same struct, was accepted with any version. A version that is not a whole
+    /// number is refused with a message that says so (it had said "must be a number" of 1.0).
+    #[test]
+    fn only_an_object_with_a_whole_version_is_a_fits_file() {
+        let text = with("eta", "1.51");
+        let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+        for version in [1, 2] {
+            let array = format!("[{version}, {}]", value["fits"]);
+            let e = FitsFile::from_json("f.json", &array)
+                .unwrap_err()
+                .to_string();
+            assert_eq!(
+                e,
+                "f.json: not a fits file: expected a JSON object with the keys \"version\" and \
+                 \"fits\""
+            );
+        }
+        for version in ["1.0", "-1", "\"1\""] {
+            let mut v = value.clone();
+            v["version"] = serde_json::from_str(version).unwrap();
+            let e = FitsFile::from_json("f.json", &v.to_string())
+                .unwrap_err()
+                .to_string();
+            assert_eq!(
+                e,
+                format!(
+                    "f.json: not a fits file: \"version\" must be a whole number (this stfit \
+                     reads version 1), got {version}"
+                )
+            );
+        }
     }
 
     /// A file that starts with a UTF-8 byte order mark (as some editors save) reads as without.
