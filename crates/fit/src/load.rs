@@ -262,12 +262,12 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
             files.push(path.clone());
         }
     }
-    let mut seen: Vec<(PathBuf, &PathBuf)> = Vec::new();
+    let mut seen: Vec<(FileId, &PathBuf)> = Vec::new();
     for file in &files {
-        let Ok(canonical) = file.canonicalize() else {
+        let Some(id) = file_id(file) else {
             continue;
         };
-        if let Some((_, first)) = seen.iter().find(|(c, _)| *c == canonical) {
+        if let Some((_, first)) = seen.iter().find(|(c, _)| *c == id) {
             let first = first.display().to_string();
             return Err(LoadError::new(
                 file,
@@ -276,7 +276,7 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
                 LoadErrorKind::Repeated(first),
             ));
         }
-        seen.push((canonical, file));
+        seen.push((id, file));
     }
     // Each sample with the file and line of its first row, to place a sample-wide error.
     let mut samples: Vec<(Sample, &Path, Option<u64>)> = Vec::new();
@@ -312,6 +312,35 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
         ),
     };
     Ok(Dataset { source, samples })
+}
+
+/// What identifies a file whatever path names it: on Unix its device and inode, so that a
+/// hard link, a symbolic link, another spelling of the path and `/dev/stdin` given twice (one
+/// pipe) are the same file; elsewhere its canonical path. `None` for a path that names nothing
+/// (reading it reports that).
+#[derive(Debug, PartialEq, Eq)]
+enum FileId {
+    #[cfg(unix)]
+    Inode { device: u64, inode: u64 },
+    #[cfg(not(unix))]
+    Path(PathBuf),
+}
+
+/// The [`FileId`] of `path`, following symbolic links.
+fn file_id(path: &Path) -> Option<FileId> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let meta = std::fs::metadata(path).ok()?;
+        Some(FileId::Inode {
+            device: meta.dev(),
+            inode: meta.ino(),
+        })
+    }
+    #[cfg(not(unix))]
+    {
+        path.canonicalize().ok().map(FileId::Path)
+    }
 }
 
 /// Parses and validates measurement-file contents; `source` names them in errors.
@@ -1460,6 +1489,26 @@ mod tests {
             let e = load_paths(&twice).unwrap_err();
             assert!(matches!(e.kind, LoadErrorKind::Repeated(_)), "{e}");
         }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A hard link is another path to the same file: given with the file, its measurements
+    /// would count twice, as they did when files were told apart by their canonical paths.
+    #[cfg(unix)]
+    #[test]
+    fn a_hard_link_to_a_file_given_too_is_the_file_given_twice() {
+        let dir = std::env::temp_dir().join(format!("stfit-load-link-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("a.csv");
+        std::fs::write(&file, "theta_i_deg,theta_o_deg,L\n0,180,1\n0,170,2\n").unwrap();
+        let link = dir.join("b.csv");
+        std::fs::hard_link(&file, &link).unwrap();
+        let e = load_paths(&[file.clone(), link.clone()]).unwrap_err();
+        assert_eq!(e.file, link);
+        assert_eq!(e.kind, LoadErrorKind::Repeated(file.display().to_string()));
+        let e = load_paths(&[dir.clone()]).unwrap_err();
+        assert!(matches!(e.kind, LoadErrorKind::Repeated(_)), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
