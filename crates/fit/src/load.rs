@@ -280,6 +280,8 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
     }
     // Each sample with the file and line of its first row, to place a sample-wide error.
     let mut samples: Vec<(Sample, &Path, Option<u64>)> = Vec::new();
+    // Where each sample name is in `samples`: a file of many samples merges in linear time.
+    let mut index: HashMap<String, usize> = HashMap::new();
     for file in &files {
         let bytes = crate::files::read_input(file).map_err(|e| io(file, e))?;
         let parts = if crate::pabopto::is_pabopto(&bytes) {
@@ -293,9 +295,12 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
                 .collect()
         };
         for (part, line) in parts {
-            match samples.iter_mut().find(|(s, ..)| s.name == part.name) {
-                Some((s, ..)) => s.points.extend(part.points),
-                None => samples.push((part, file, line)),
+            match index.get(&part.name) {
+                Some(&i) => samples[i].0.points.extend(part.points),
+                None => {
+                    index.insert(part.name.clone(), samples.len());
+                    samples.push((part, file, line));
+                }
             }
         }
     }
@@ -1509,6 +1514,30 @@ mod tests {
         assert_eq!(e.kind, LoadErrorKind::Repeated(file.display().to_string()));
         let e = load_paths(&[dir.clone()]).unwrap_err();
         assert!(matches!(e.kind, LoadErrorKind::Repeated(_)), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A file of many samples reads in linear time: merging each file's samples by name had
+    /// compared every name with every earlier one, and 100,000 one-row samples (1.8 MB) took
+    /// over a minute; 200,000 now take well under a second.
+    #[test]
+    fn many_samples_merge_in_linear_time() {
+        let dir = std::env::temp_dir().join(format!("stfit-load-many-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let n = 200_000;
+        let mut text = String::from("sample,theta_i_deg,theta_o_deg,L\n");
+        for k in 0..n {
+            text += &format!("s{k},0,170,1\n");
+        }
+        let path = dir.join("many.csv");
+        std::fs::write(&path, text).unwrap();
+        let start = std::time::Instant::now();
+        let d = load_paths(&[path]).unwrap();
+        let took = start.elapsed();
+        assert_eq!(d.samples.len(), n);
+        assert_eq!(d.samples[n - 1].name, format!("s{}", n - 1));
+        assert!(took.as_secs_f64() < 20.0, "took {took:?}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
