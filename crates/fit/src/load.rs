@@ -62,7 +62,8 @@ impl fmt::Display for LoadError {
             write!(f, ":{line}")?;
         }
         if let Some(column) = &self.column {
-            write!(f, ": column '{column}'")?;
+            // A header name from the file, shown as every text of a file is.
+            write!(f, ": column '{}'", crate::data::short(column))?;
         }
         write!(f, ": {}", self.kind)
     }
@@ -615,6 +616,22 @@ fn header_of(path: &Path, bytes: &[u8]) -> Result<Option<CsvHeader>, LoadError> 
     )))
 }
 
+/// A header's names as messages list them: each as [`crate::data::short`] shows text (control
+/// characters escaped, long names cut), at most 20 of them. A file whose line ends are lone
+/// `\r`s is one header line of every field, and a name may hold any text.
+pub(crate) fn header_list(names: &[String]) -> String {
+    const MAX: usize = 20;
+    let mut list: Vec<String> = names
+        .iter()
+        .take(MAX)
+        .map(|n| crate::data::short(n))
+        .collect();
+    if names.len() > MAX {
+        list.push(format!("... ({} fields)", names.len()));
+    }
+    list.join(", ")
+}
+
 /// A record that is one whitespace-only field: an empty or blank line.
 fn is_blank(record: &csv::ByteRecord) -> bool {
     record.len() == 1
@@ -780,7 +797,7 @@ impl Header {
                 .into_iter()
                 .map(str::to_owned)
                 .collect();
-        let found = names.join(", ");
+        let found = header_list(&names);
         let at = |column: &str, kind| LoadError::new(source, Some(line), Some(column), kind);
         let find = |wanted: &str| -> Result<Option<usize>, LoadError> {
             let mut hits = names.iter().enumerate().filter(|(_, n)| *n == wanted);
@@ -1317,6 +1334,40 @@ mod tests {
         ));
         let (line, _, kind) = kind_at("# c\ntheta_i_deg,theta_o_deg,L\n\n");
         assert_eq!((line, kind), (Some(2), LoadErrorKind::NoRows));
+    }
+
+    /// Header names in messages are shown as other text of a file is: control characters
+    /// escaped, long names cut, at most 20 listed. A file with lone `\r` line ends is one
+    /// header line, and its whole text (with raw `\r`s that redraw the terminal line) had
+    /// been echoed in the message.
+    #[test]
+    fn header_names_in_messages_are_escaped_and_cut() {
+        let mut cr = String::from("sample,theta_i_deg,theta_o_deg,L");
+        for k in 0..1000 {
+            cr += &format!("\ra,{k},170,1");
+        }
+        let e = load(&cr).unwrap_err().to_string();
+        assert!(
+            e.starts_with("t.csv:1: column 'L or sqrt_L': missing"),
+            "{e}"
+        );
+        assert!(!e.chars().any(char::is_control) && e.len() < 2000, "{e}");
+        assert!(
+            e.contains("L\\ra") && e.ends_with("... (3004 fields))"),
+            "{e}"
+        );
+        let e = load("theta_i_deg,\x1b[2J,L\n0,170,1\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("theta_i_deg, \\u{1b}[2J, L"), "{e}");
+        let long = "n".repeat(5000);
+        let e = load(&format!("theta_i_deg,theta_o_deg,L,{long}\n0,170,1\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("t.csv:2: column 'nnnn") && e.len() < 200,
+            "{e}"
+        );
     }
 
     #[test]
