@@ -14,6 +14,7 @@ use crate::conventions::{
     THETA_I_RANGE, THETA_O_RANGE, THETA_RANGE, theta_i_in_range, theta_in_range, theta_o_in_range,
 };
 use crate::data::{Dataset, Measurement, Sample};
+use crate::files::FileId;
 
 /// Name of the optional column holding the sample name.
 pub const COL_SAMPLE: &str = "sample";
@@ -240,32 +241,10 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
     let io = |p: &Path, e: std::io::Error| {
         LoadError::new(p, None, None, LoadErrorKind::Io(e.to_string()))
     };
-    let mut files = Vec::new();
-    for path in paths {
-        if path.is_dir() {
-            let mut inside: Vec<PathBuf> = std::fs::read_dir(path)
-                .map_err(|e| io(path, e))?
-                .filter_map(Result::ok)
-                .map(|e| e.path())
-                .filter(|p| {
-                    p.is_file()
-                        && !p
-                            .file_name()
-                            .is_some_and(|n| n.to_string_lossy().starts_with('.'))
-                })
-                .collect();
-            if inside.is_empty() {
-                return Err(LoadError::new(path, None, None, LoadErrorKind::EmptyFolder));
-            }
-            inside.sort();
-            files.extend(inside);
-        } else {
-            files.push(path.clone());
-        }
-    }
+    let files = data_files(paths)?;
     let mut seen: Vec<(FileId, &PathBuf)> = Vec::new();
     for file in &files {
-        let Some(id) = file_id(file) else {
+        let Some(id) = FileId::of(file) else {
             continue;
         };
         if let Some((_, first)) = seen.iter().find(|(c, _)| *c == id) {
@@ -320,33 +299,34 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
     Ok(Dataset { source, samples })
 }
 
-/// What identifies a file whatever path names it: on Unix its device and inode, so that a
-/// hard link, a symbolic link, another spelling of the path and `/dev/stdin` given twice (one
-/// pipe) are the same file; elsewhere its canonical path. `None` for a path that names nothing
-/// (reading it reports that).
-#[derive(Debug, PartialEq, Eq)]
-enum FileId {
-    #[cfg(unix)]
-    Inode { device: u64, inode: u64 },
-    #[cfg(not(unix))]
-    Path(PathBuf),
-}
-
-/// The [`FileId`] of `path`, following symbolic links.
-fn file_id(path: &Path) -> Option<FileId> {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::MetadataExt;
-        let meta = std::fs::metadata(path).ok()?;
-        Some(FileId::Inode {
-            device: meta.dev(),
-            inode: meta.ino(),
-        })
+/// The files that [`load_paths`] reads for `paths`: each path that is not a folder, and for a
+/// folder every file in it, in name order, hidden files (names starting with `.`) left out,
+/// sub-folders not descended into. An empty folder, or one that cannot be listed, is an error.
+pub fn data_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, LoadError> {
+    let mut files = Vec::new();
+    for path in paths {
+        if path.is_dir() {
+            let mut inside: Vec<PathBuf> = std::fs::read_dir(path)
+                .map_err(|e| LoadError::new(path, None, None, LoadErrorKind::Io(e.to_string())))?
+                .filter_map(Result::ok)
+                .map(|e| e.path())
+                .filter(|p| {
+                    p.is_file()
+                        && !p
+                            .file_name()
+                            .is_some_and(|n| n.to_string_lossy().starts_with('.'))
+                })
+                .collect();
+            if inside.is_empty() {
+                return Err(LoadError::new(path, None, None, LoadErrorKind::EmptyFolder));
+            }
+            inside.sort();
+            files.extend(inside);
+        } else {
+            files.push(path.clone());
+        }
     }
-    #[cfg(not(unix))]
-    {
-        path.canonicalize().ok().map(FileId::Path)
-    }
+    Ok(files)
 }
 
 /// Parses and validates measurement-file contents; `source` names them in errors.
