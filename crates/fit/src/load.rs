@@ -1543,7 +1543,7 @@ mod tests {
         let e = load_paths(&[file.clone(), link.clone()]).unwrap_err();
         assert_eq!(e.file, link);
         assert_eq!(e.kind, LoadErrorKind::Repeated(file.display().to_string()));
-        let e = load_paths(&[dir.clone()]).unwrap_err();
+        let e = load_paths(std::slice::from_ref(&dir)).unwrap_err();
         assert!(matches!(e.kind, LoadErrorKind::Repeated(_)), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
