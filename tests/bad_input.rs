@@ -285,6 +285,36 @@ fn invalid_fit_flags() {
     }
 }
 
+/// `--out` onto a data file is refused (exit 2) whatever path names it: a file inside a data
+/// folder given, or a hard link to a data file. Both had been overwritten with the fits.
+#[test]
+fn out_onto_a_data_file_by_any_path_is_refused() {
+    let dir = CaseDir::new("out-onto-data");
+    let path = data(&dir, "a,30,170,0.5\na,30,190,0.7\n");
+    let before = std::fs::read(&path).unwrap();
+    let folder = dir.path().to_str().unwrap();
+    let p = path.to_str().unwrap();
+    let link = dir.path().join(".link.csv");
+    let mut cases = vec![(vec![folder, "--out", p], p)];
+    #[cfg(unix)]
+    {
+        std::fs::hard_link(&path, &link).unwrap();
+        cases.push((vec![p, "--out", link.to_str().unwrap()], p));
+    }
+    for (args, named) in cases {
+        let out = stfit(&args);
+        assert_eq!(out.code, Some(2), "{args:?}: {}", out.stderr);
+        assert!(
+            out.stderr.contains(&format!(
+                "is the data file {named}; refusing to overwrite it"
+            )),
+            "{args:?}: {}",
+            out.stderr
+        );
+        assert_eq!(std::fs::read(&path).unwrap(), before, "{args:?}");
+    }
+}
+
 /// `stfit synth` validates its arguments the same way.
 #[test]
 fn invalid_synth_flags() {

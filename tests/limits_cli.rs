@@ -616,8 +616,8 @@ fn messages_name_the_range_that_applies_and_stay_short() {
 }
 
 /// Walk flags where nothing walks are refused (exit 2): `eval` in closed form, `synth` without
-/// `--orders all`; a data file given twice (directly or through its folder) is refused rather
-/// than counted twice; `synth` writes tiny values in exponent form, never 300 digits.
+/// `--orders all`; a data file given twice (directly, through its folder or as one pipe) is
+/// refused rather than counted twice; `synth` writes tiny values in exponent form, never 300 digits.
 #[test]
 fn walk_flags_without_walks_and_files_given_twice_are_refused() {
     let pair = "wi_x,wi_y,wi_z,wo_x,wo_y,wo_z\n0,0,1,0,0,-1\n";
@@ -646,6 +646,15 @@ fn walk_flags_without_walks_and_files_given_twice_are_refused() {
         [dir.path().to_str().unwrap(), data.to_str().unwrap()],
     ] {
         let err = stfit(&twice).fails_with(1).to_string();
+        assert!(err.contains("given twice"), "{err}");
+    }
+    // One pipe named twice: the second read had found it drained and called the file empty.
+    #[cfg(unix)]
+    {
+        let text = std::fs::read_to_string(&data).unwrap();
+        let err = stfit_in(&["/dev/stdin", "/dev/stdin"], &text)
+            .fails_with(1)
+            .to_string();
         assert!(err.contains("given twice"), "{err}");
     }
 

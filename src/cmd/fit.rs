@@ -2,7 +2,7 @@
 //! and print a table or JSON.
 
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -12,6 +12,8 @@ use stfit_fit::{
     ModelKind, ModelSpec, MultipleTerm, Optimizer, Parameter, all_models, fit_dataset, load_paths,
 };
 use stfit_report::fits_table;
+
+use stfit_fit::files::same_file;
 
 use super::{
     CmdError, CmdResult, MaskingArg, OrdersArg, Retired, failed, masking_of, print_stdout, usage,
@@ -253,7 +255,10 @@ pub fn run(args: FitArgs, given: &[String]) -> CmdResult {
     let specs = args.options.specs()?;
     let opts = args.options.fit_options(given)?;
     if let Some(out) = &args.out {
-        if let Some(path) = args.data.iter().find(|p| same_file(out, p)) {
+        // Every file the fit reads, those of a folder included (a listing that fails is
+        // reported by the read).
+        let files = stfit_fit::load::data_files(&args.data).unwrap_or_else(|_| args.data.clone());
+        if let Some(path) = files.iter().find(|p| same_file(out, p)) {
             return Err(usage(format!(
                 "--out {} is the data file {}; refusing to overwrite it",
                 out.display(),
@@ -275,11 +280,6 @@ pub fn run(args: FitArgs, given: &[String]) -> CmdResult {
     } else {
         print_stdout(&fits_table(&fits))
     }
-}
-
-/// Whether two paths name the same existing file.
-fn same_file(a: &Path, b: &Path) -> bool {
-    matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
 }
 
 /// The dataset restricted to the sample `name`, when one is given.

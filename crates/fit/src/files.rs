@@ -3,6 +3,8 @@
 //! is in the way.
 
 use std::path::Path;
+#[cfg(not(unix))]
+use std::path::PathBuf;
 
 /// The bytes of the input file at `path`, read whole: a regular file or a pipe (`<(...)`,
 /// `/dev/stdin`). On Unix a device or a socket is refused with an
@@ -47,4 +49,40 @@ pub fn create_folder(dir: &Path) -> std::io::Result<()> {
         return Err(std::io::Error::new(std::io::ErrorKind::AlreadyExists, what));
     }
     std::fs::create_dir_all(dir)
+}
+
+/// What identifies a file whatever path names it: on Unix its device and inode, so that a
+/// hard link, a symbolic link, another spelling of the path and `/dev/stdin` named twice (one
+/// pipe) are the same file; elsewhere its canonical path.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum FileId {
+    #[cfg(unix)]
+    Inode { device: u64, inode: u64 },
+    #[cfg(not(unix))]
+    Path(PathBuf),
+}
+
+impl FileId {
+    /// The identity of the file at `path`, following symbolic links; `None` for a path that
+    /// names nothing (reading it reports that).
+    pub fn of(path: &Path) -> Option<Self> {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt;
+            let meta = std::fs::metadata(path).ok()?;
+            Some(Self::Inode {
+                device: meta.dev(),
+                inode: meta.ino(),
+            })
+        }
+        #[cfg(not(unix))]
+        {
+            path.canonicalize().ok().map(Self::Path)
+        }
+    }
+}
+
+/// Whether `a` and `b` name the same existing file ([`FileId`]).
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    matches!((FileId::of(a), FileId::of(b)), (Some(a), Some(b)) if a == b)
 }

@@ -160,11 +160,24 @@ impl Header {
                 })
                 .map_err(err)
         };
+        // A polar angle is checked on its line, so that a problem of a later (data) line is
+        // not reported first.
+        let polar = |s: &str| {
+            let given = given(s)?;
+            if theta_in_range(given.value) {
+                Ok(given)
+            } else {
+                Err(err(LoadErrorKind::AngleOutOfRange {
+                    value: given.value,
+                    range: THETA_RANGE,
+                }))
+            }
+        };
         match key {
             Key::SampleName => self.name = Some(sample_name(rest).map_err(err)?),
             Key::Format => self.form = Some(value_form(rest).map_err(err)?),
             Key::Colorimetry => self.values = Some(colorimetry(rest).map_err(err)?),
-            Key::InTheta => give(source, &mut self.theta_i, given(rest.trim())?)?,
+            Key::InTheta => give(source, &mut self.theta_i, polar(rest.trim())?)?,
             Key::InPhi => give(source, &mut self.phi_i, given(rest.trim())?)?,
             Key::IncidentAngle => {
                 let words: Vec<&str> = rest.split_whitespace().collect();
@@ -174,7 +187,7 @@ impl Header {
                         found: words.len(),
                     }));
                 };
-                let (t, p) = (given(t)?, given(p)?);
+                let (t, p) = (polar(t)?, given(p)?);
                 give(source, &mut self.theta_i, t)?;
                 give(source, &mut self.phi_i, p)?;
             }
@@ -289,16 +302,6 @@ pub fn read_pabopto(source: &Path, bytes: &[u8]) -> Result<(String, Vec<Measurem
     let (Some(ti), Some(pi)) = (header.theta_i, header.phi_i) else {
         return Err(err(1, "#intheta/#inphi", LoadErrorKind::NoIncidence));
     };
-    if !theta_in_range(ti.value) {
-        return Err(err(
-            ti.line,
-            &ti.key.column(),
-            LoadErrorKind::AngleOutOfRange {
-                value: ti.value,
-                range: THETA_RANGE,
-            },
-        ));
-    }
     if raw.is_empty() {
         return Err(err(1, "theta phi value", LoadErrorKind::NoRows));
     }
@@ -467,6 +470,28 @@ mod tests {
 
     fn read(text: &str) -> Result<(String, Vec<Measurement>), LoadError> {
         read_pabopto(Path::new("m.txt"), text.as_bytes())
+    }
+
+    /// An incident polar angle out of range is reported on its own line, before the problems
+    /// of later lines: it had been checked only once every line was read, so a bad data line
+    /// further down was reported instead (data-format.md: reading stops at the first problem).
+    #[test]
+    fn an_incident_angle_out_of_range_is_the_first_problem_of_its_file() {
+        for (head, key) in [
+            ("#intheta 200\n#inphi 0\n", "#intheta"),
+            ("#incident_angle 90 0\n", "#incident_angle"),
+        ] {
+            let e = read(&format!("#format: theta phi BSDF\n{head}150 10 abc\n")).unwrap_err();
+            assert_eq!(
+                (e.line, e.column.as_deref()),
+                (Some(2), Some(key)),
+                "{head}: {e}"
+            );
+            assert!(
+                matches!(e.kind, LoadErrorKind::AngleOutOfRange { .. }),
+                "{e}"
+            );
+        }
     }
 
     /// The manual page's example: DSF values are divided by |cos theta_out|.

@@ -154,7 +154,7 @@ pub fn read_pairs(source: &Path, bytes: &[u8]) -> Result<PairTable, LoadError> {
                     Some(header_line),
                     Some(name),
                     LoadErrorKind::MissingColumn {
-                        found: header.join(", "),
+                        found: crate::load::header_list(&header),
                     },
                 ));
             }

@@ -155,14 +155,15 @@ impl FitResult {
     /// `rmse_sqrt_l` >= 0 and standard errors `null` or finite and > 0. The message names the
     /// field.
     pub fn check(&self) -> Result<(), String> {
-        self.model.check().map_err(|e| e.to_string())?;
-        check_fit_eta(self.model.eta).map_err(|e| e.to_string())?;
-        // A fit's walks are those an all-orders fit accepts (at least 2), not a model's.
-        if let Some(walks) = self.model.walks {
+        // A fit's walks are those an all-orders fit accepts, [2, 1e9], not a model's [1, 1e9]:
+        // checked first, so that the message states the fit's range.
+        if let (ScatteringOrders::All, Some(walks)) = (self.model.orders, self.model.walks) {
             check_fit_walks(walks).map_err(|_| {
                 format!("walks must be in [2, 1e9] for an all-orders fit, got {walks}")
             })?;
         }
+        self.model.check().map_err(|e| e.to_string())?;
+        check_fit_eta(self.model.eta).map_err(|e| e.to_string())?;
         if let Some(floor) = self.log_floor {
             check_log_floor(floor).map_err(|_| {
                 format!(
@@ -352,6 +353,14 @@ impl FitsFile {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let json = |e: serde_json::Error| FitsFileError::Json(source.to_owned(), e.to_string());
         let value: serde_json::Value = serde_json::from_str(text).map_err(json)?;
+        // Only an object: serde would also take the array `[version, fits]`, which is not the
+        // format and would pass any version unchecked.
+        if !value.is_object() {
+            return Err(FitsFileError::Json(
+                source.to_owned(),
+                "expected a JSON object with the keys \"version\" and \"fits\"".to_owned(),
+            ));
+        }
         match value.get("version") {
             None if value.get("fits").is_some() => {
                 return Err(FitsFileError::Unversioned(source.to_owned()));
@@ -361,7 +370,10 @@ impl FitsFile {
                     Some(n) => FitsFileError::Version(source.to_owned(), n),
                     None => FitsFileError::Json(
                         source.to_owned(),
-                        format!("\"version\" must be a number, got {v}"),
+                        format!(
+                            "\"version\" must be a whole number (this stfit reads version \
+                             {FITS_VERSION}), got {v}"
+                        ),
                     ),
                 });
             }
@@ -615,6 +627,67 @@ mod tests {
                 .collect()
         };
         assert_eq!(keys(example), keys(&file.to_json()));
+    }
+
+    /// An all-orders fit's walks outside [2, 1e9] are refused with that range, on both sides
+    /// (above 1e9 the model's own check had answered first, with its range [1, 1e9]).
+    #[test]
+    fn walks_of_an_all_orders_fit_are_refused_with_the_fits_range() {
+        for walks in ["1", "1000000001"] {
+            let mut v: serde_json::Value = serde_json::from_str(&with("eta", "1.51")).unwrap();
+            for (key, value) in [
+                ("orders", r#""all""#),
+                ("masking", r#""correlated""#),
+                ("gamma", "3"),
+                ("seed", "1"),
+                ("walks", walks),
+            ] {
+                v["fits"][0][key] = serde_json::from_str(value).unwrap();
+            }
+            let e = FitsFile::from_json("f.json", &v.to_string())
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.ends_with(&format!(
+                    "walks must be in [2, 1e9] for an all-orders fit, got {walks}"
+                )),
+                "{e}"
+            );
+        }
+    }
+
+    /// Only a JSON object is a fits file: the array `[version, fits]`, which serde would
+    /// read as the same struct, was accepted with any version. A version that is not a whole
+    /// number is refused with a message that says so (it had said "must be a number" of 1.0).
+    #[test]
+    fn only_an_object_with_a_whole_version_is_a_fits_file() {
+        let text = with("eta", "1.51");
+        let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+        for version in [1, 2] {
+            let array = format!("[{version}, {}]", value["fits"]);
+            let e = FitsFile::from_json("f.json", &array)
+                .unwrap_err()
+                .to_string();
+            assert_eq!(
+                e,
+                "f.json: not a fits file: expected a JSON object with the keys \"version\" and \
+                 \"fits\""
+            );
+        }
+        for version in ["1.0", "-1", "\"1\""] {
+            let mut v = value.clone();
+            v["version"] = serde_json::from_str(version).unwrap();
+            let e = FitsFile::from_json("f.json", &v.to_string())
+                .unwrap_err()
+                .to_string();
+            assert_eq!(
+                e,
+                format!(
+                    "f.json: not a fits file: \"version\" must be a whole number (this stfit \
+                     reads version 1), got {version}"
+                )
+            );
+        }
     }
 
     /// A file that starts with a UTF-8 byte order mark (as some editors save) reads as without.

@@ -153,6 +153,63 @@ fn shards_merged_equal_one_run_byte_for_byte() {
     assert!(err.starts_with("junk.json: not a shard file"), "{err}");
 }
 
+/// A shard whose count is far beyond the table's lines (an edited file) is refused, naming the
+/// file, before anything is sized by that count: a count of 1e18 had panicked ("capacity
+/// overflow").
+#[test]
+fn a_shard_count_beyond_the_table_is_refused_not_allocated() {
+    let s = spec(Family::Ggx, ScatteringOrders::Single);
+    let sh = Shard { index: 1, count: 1 };
+    let lines = compute::compute(&s, sh, &Quadrature::default(), &|_| {}).unwrap();
+    let text = shard::write(&s, sh, &lines).unwrap();
+    for count in ["1000000000000000000", "18446744073709551615"] {
+        let edited = text.replace(
+            "\"shard\":{\"index\":1,\"count\":1}",
+            &format!("\"shard\":{{\"index\":1,\"count\":{count}}}"),
+        );
+        assert_ne!(edited, text);
+        let err = shard::merge(&[("huge.json".into(), edited)])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.starts_with("huge.json: ") && err.contains("the table has only"),
+            "{err}"
+        );
+    }
+}
+
+/// A shard with the wrong lines is refused with a message that lists them shortly and says
+/// where they first differ: the whole lists of indices had been printed, 1.5 MB for a shard
+/// of 100,000 lines missing its last.
+#[test]
+fn a_shard_with_the_wrong_lines_is_described_shortly() {
+    let mut s = spec(Family::Ggx, ScatteringOrders::Single);
+    s.alpha = axis("0.1:0.5:40");
+    let sh = Shard { index: 1, count: 2 };
+    let lines = compute::compute(&s, sh, &Quadrature::default(), &|_| {}).unwrap();
+    assert_eq!(lines.len(), 40);
+    let mut short = lines.clone();
+    short.pop();
+    let err = shard::merge(&[("s.json".into(), shard::write(&s, sh, &short).unwrap())])
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        err,
+        "s.json: shard 1/2 must hold lines [0, 2, 4, 6, 8, ..., 76, 78] (40 lines) of the \
+         table, holds [0, 2, 4, 6, 8, ..., 74, 76] (39 lines): it ends after 39 lines, before \
+         line 78"
+    );
+    let mut swapped = lines;
+    swapped.swap(20, 21);
+    let err = shard::merge(&[("s.json".into(), shard::write(&s, sh, &swapped).unwrap())])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.ends_with(": its line 21 is 42, where line 40 belongs"),
+        "{err}"
+    );
+}
+
 #[test]
 fn every_line_is_in_exactly_one_shard() {
     let s = spec(Family::StudentT, ScatteringOrders::Single);

@@ -72,6 +72,11 @@ pub fn merge(files: &[(String, String)]) -> Result<Table, ShardError> {
         file.spec
             .check()
             .map_err(|e| mismatch(format!("invalid table specification: {e}")))?;
+        // Before anything is sized by the count: a count beyond the table's lines (1e18) is
+        // refused here, not allocated.
+        file.shard
+            .check(file.spec.lines())
+            .map_err(|e| mismatch(e.to_string()))?;
         let (spec, count) = reference.get_or_insert_with(|| {
             seen = vec![None; file.shard.count];
             (file.spec.clone(), file.shard.count)
@@ -99,7 +104,10 @@ pub fn merge(files: &[(String, String)]) -> Result<Table, ShardError> {
         let got: Vec<usize> = file.lines.iter().map(|l| l.index).collect();
         if got != expected {
             return Err(mismatch(format!(
-                "shard {shard} must hold lines {expected:?} of the table, holds {got:?}"
+                "shard {shard} must hold lines {} of the table, holds {}{}",
+                line_list(&expected),
+                line_list(&got),
+                first_difference(&expected, &got)
             )));
         }
         for l in &file.lines {
@@ -143,6 +151,43 @@ pub fn merge(files: &[(String, String)]) -> Result<Table, ShardError> {
     }
     lines.sort_unstable_by_key(|l| l.index);
     Ok(Table { spec, lines })
+}
+
+/// Line indices as a message lists them: all of up to 10, else the first 5, the last 2 and
+/// how many, so that a shard of a million lines is not echoed whole.
+fn line_list(lines: &[usize]) -> String {
+    if lines.len() <= 10 {
+        return format!("{lines:?}");
+    }
+    let head: Vec<String> = lines[..5].iter().map(usize::to_string).collect();
+    let tail: Vec<String> = lines[lines.len() - 2..]
+        .iter()
+        .map(usize::to_string)
+        .collect();
+    format!(
+        "[{}, ..., {}] ({} lines)",
+        head.join(", "),
+        tail.join(", "),
+        lines.len()
+    )
+}
+
+/// Where two long lists of line indices first differ, for a message that cannot show them
+/// whole ([`line_list`]); empty when both are short enough to be shown.
+fn first_difference(expected: &[usize], got: &[usize]) -> String {
+    if expected.len() <= 10 && got.len() <= 10 {
+        return String::new();
+    }
+    let k = expected.iter().zip(got).take_while(|(e, g)| e == g).count();
+    match (expected.get(k), got.get(k)) {
+        (Some(e), Some(g)) => format!(": its line {} is {g}, where line {e} belongs", k + 1),
+        (Some(e), None) => format!(": it ends after {k} lines, before line {e}"),
+        (None, Some(g)) => format!(
+            ": its line {} is {g}, after the last one it must hold",
+            k + 1
+        ),
+        (None, None) => String::new(),
+    }
 }
 
 /// Checks that `v`, the value `label` names, is in `[lo, hi]` within [`TOLERANCE`].
