@@ -315,6 +315,121 @@ fn out_onto_a_data_file_by_any_path_is_refused() {
     }
 }
 
+/// Runs `args`, which give `--out` (or a file written inside the folder it names) onto the
+/// input `named`, and checks the refusal of the data-file guard: exit 2, nothing on stdout, the
+/// input named, and `kept` (the input's path) as it was.
+fn expect_out_refused(args: &[&str], named: &str, kept: &Path) {
+    let before = std::fs::read(kept).unwrap();
+    let out = stfit(args);
+    assert_eq!(out.code, Some(2), "{args:?}: {}", out.stderr);
+    assert!(
+        out.stderr.contains(&format!(
+            "is the data file {named}; refusing to overwrite it"
+        )),
+        "{args:?}: {}",
+        out.stderr
+    );
+    assert!(out.stdout.is_empty(), "{args:?}: {}", out.stdout);
+    assert_eq!(std::fs::read(kept).unwrap(), before, "{args:?}");
+}
+
+/// `stfit export FITS --out` onto the fits file it reads is refused like `stfit DATA --out`:
+/// the same path, a hard link, the file written beside `--out FILE` (mitsuba3's `.py`) and the
+/// one written into `--out DIR/`. Each had overwritten the fits.
+#[test]
+fn export_out_onto_its_fits_file_is_refused() {
+    let dir = CaseDir::new("export-out-onto-fits");
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/fits/example-fits.json");
+    let json = std::fs::read(example).unwrap();
+    let fits = dir.file("fits.json", &json);
+    let f = fits.to_str().unwrap();
+    expect_out_refused(&["export", f, "--to", "cycles", "--out", f], f, &fits);
+    #[cfg(unix)]
+    {
+        let link = dir.join("link.py");
+        std::fs::hard_link(&fits, &link).unwrap();
+        let l = link.to_str().unwrap();
+        expect_out_refused(&["export", f, "--to", "cycles", "--out", l], f, &fits);
+    }
+    let beside = dir.file("scene.py", &json);
+    let b = beside.to_str().unwrap();
+    let xml = dir.join("scene.xml");
+    let x = xml.to_str().unwrap();
+    expect_out_refused(&["export", b, "--to", "mitsuba3", "--out", x], b, &beside);
+    assert!(!xml.exists(), "nothing written");
+    let folder = dir.join("out");
+    std::fs::create_dir(&folder).unwrap();
+    let inside = folder.join("frosted_beckmann-mitsuba3.py");
+    std::fs::write(&inside, &json).unwrap();
+    let i = inside.to_str().unwrap();
+    let slashed = format!("{}{}", folder.display(), std::path::MAIN_SEPARATOR);
+    let args = [
+        "export", i, "--to", "mitsuba3", "--sample", "frosted", "--model", "beckmann", "--out",
+        &slashed,
+    ];
+    expect_out_refused(&args, i, &inside);
+}
+
+/// `stfit tables merge SHARD... --out` onto one of its shards is refused, by path or hard link.
+#[test]
+fn tables_merge_out_onto_a_shard_is_refused() {
+    let dir = CaseDir::new("merge-out-onto-shard");
+    let shard = dir.join("s.json");
+    let s = shard.to_str().unwrap();
+    let table = [
+        "tables",
+        "--ndf",
+        "ggx",
+        "--alpha-grid",
+        "0.3,0.6",
+        "--mu-grid",
+        "0.5,1",
+        "--eta-grid",
+        "1.5",
+        "--side",
+        "outside",
+        "--shard",
+        "1/1",
+        "--out",
+        s,
+    ];
+    stfit(&table).ok();
+    expect_out_refused(&["tables", "merge", s, "--out", s], s, &shard);
+    #[cfg(unix)]
+    {
+        let link = dir.join("merged.csv");
+        std::fs::hard_link(&shard, &link).unwrap();
+        let l = link.to_str().unwrap();
+        expect_out_refused(&["tables", "merge", s, "--out", l], s, &shard);
+    }
+}
+
+/// `stfit report` refuses to write a file of its folder that is one of the files it reads: the
+/// stored fits (`--fits DIR/fits.md`) or a data file (here a hard link `DIR/overview.svg`).
+#[test]
+fn report_out_onto_an_input_is_refused() {
+    let dir = CaseDir::new("report-out-onto-input");
+    let root = env!("CARGO_MANIFEST_DIR");
+    let example = std::fs::read(format!("{root}/fits/example.csv")).unwrap();
+    let json = std::fs::read(format!("{root}/fits/example-fits.json")).unwrap();
+    let data = dir.file("data.csv", &example);
+    let d = data.to_str().unwrap();
+    let folder = dir.join("report");
+    std::fs::create_dir(&folder).unwrap();
+    let o = folder.to_str().unwrap();
+    let fits_md = folder.join("fits.md");
+    std::fs::write(&fits_md, &json).unwrap();
+    let m = fits_md.to_str().unwrap();
+    expect_out_refused(&["report", d, "--fits", m, "--out", o], m, &fits_md);
+    #[cfg(unix)]
+    {
+        let fits = dir.file("fits.json", &json);
+        std::fs::hard_link(&data, folder.join("overview.svg")).unwrap();
+        let args = ["report", d, "--fits", fits.to_str().unwrap(), "--out", o];
+        expect_out_refused(&args, d, &data);
+    }
+}
+
 /// `stfit synth` validates its arguments the same way.
 #[test]
 fn invalid_synth_flags() {

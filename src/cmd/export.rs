@@ -13,7 +13,9 @@ use stfit_export::{
 };
 use stfit_fit::{FitsFile, ModelKind};
 
-use super::{CmdResult, Retired, failed, print_stdout, usage, write_file};
+use super::{
+    CmdResult, Retired, failed, print_stdout, refuse_overwriting_input, usage, write_file,
+};
 
 /// Arguments of `stfit export`.
 #[derive(Debug, Clone, ClapArgs)]
@@ -147,6 +149,11 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
             _ => None,
         }),
     };
+    let inputs = std::slice::from_ref(&args.fits);
+    if let Some(out) = &args.out {
+        // The file named, before the export's work; the files of a folder once named below.
+        refuse_overwriting_input(out, inputs)?;
+    }
     let file = FitsFile::read(&args.fits).map_err(failed)?;
     let walk_flags: Vec<&str> = given
         .iter()
@@ -207,6 +214,10 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
         if let Some(t) = &export.translation {
             eprintln!("{id}: {}", t.summary());
         }
+    }
+    // Every file written, those beside a file or inside a folder included, before any is.
+    for path in batch.outputs.iter().filter_map(|o| o.path.as_deref()) {
+        refuse_overwriting_input(path, inputs)?;
     }
     for out in &batch.outputs {
         match &out.path {

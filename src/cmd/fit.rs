@@ -13,11 +13,9 @@ use stfit_fit::{
 };
 use stfit_report::fits_table;
 
-use stfit_fit::files::same_file;
-
 use super::{
-    CmdError, CmdResult, MaskingArg, OrdersArg, Retired, failed, masking_of, print_stdout, usage,
-    walks_only, write_file,
+    CmdError, CmdResult, MaskingArg, OrdersArg, Retired, failed, masking_of, print_stdout,
+    refuse_overwriting_input, usage, walks_only, write_file,
 };
 
 /// Arguments of the default (fit) command.
@@ -258,13 +256,7 @@ pub fn run(args: FitArgs, given: &[String]) -> CmdResult {
         // Every file the fit reads, those of a folder included (a listing that fails is
         // reported by the read).
         let files = stfit_fit::load::data_files(&args.data).unwrap_or_else(|_| args.data.clone());
-        if let Some(path) = files.iter().find(|p| same_file(out, p)) {
-            return Err(usage(format!(
-                "--out {} is the data file {}; refusing to overwrite it",
-                out.display(),
-                path.display()
-            )));
-        }
+        refuse_overwriting_input(out, &files)?;
     }
     let data = selected(
         load_paths(&args.data).map_err(failed)?,

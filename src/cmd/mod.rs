@@ -4,11 +4,12 @@
 
 use std::fmt;
 use std::io::{self, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use clap::ValueEnum;
 use stfit_core::ScatteringOrders;
 use stfit_core::bsdf::Masking;
+use stfit_fit::files::same_file;
 
 pub mod albedo;
 pub mod eval;
@@ -91,6 +92,21 @@ pub fn write_file(path: &Path, text: &str) -> CmdResult {
         )));
     }
     std::fs::write(path, text).map_err(|e| failed(format!("{}: cannot write: {e}", path.display())))
+}
+
+/// Refuses to write the output `out` (the file `--out` names, or one written inside the folder
+/// it names) when it is one of `inputs`, the files the command reads: a usage error (exit 2)
+/// naming both. Files are compared by identity ([`same_file`]: device and inode on Unix), so a
+/// hard link, a symbolic link or another spelling of an input's path is that input.
+pub fn refuse_overwriting_input(out: &Path, inputs: &[PathBuf]) -> CmdResult {
+    match inputs.iter().find(|p| same_file(out, p)) {
+        Some(path) => Err(usage(format!(
+            "--out {} is the data file {}; refusing to overwrite it",
+            out.display(),
+            path.display()
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// `--masking`: the Smith masking-shadowing form.

@@ -9,7 +9,7 @@ use stfit_fit::{Dataset, FitResult, FitsFile, all_models};
 use stfit_report::{ReportOptions, YScale};
 
 use super::fit::{FitOptionArgs, ModelArg, fit_with_progress, selected};
-use super::{CmdError, CmdResult, Retired, failed, print_stdout, usage};
+use super::{CmdError, CmdResult, Retired, failed, print_stdout, refuse_overwriting_input, usage};
 
 /// Arguments of `stfit report`.
 #[derive(Debug, Clone, Args)]
@@ -98,6 +98,13 @@ pub fn run(args: ReportArgs, given: &[String]) -> CmdResult {
         .map_err(|e| failed(format!("{whose}: {e}")))?;
     for w in &report.warnings {
         eprintln!("warning: {w}");
+    }
+    // The files the report reads, those of a data folder included, against every file it
+    // writes, before any is written.
+    let mut inputs = stfit_fit::load::data_files(&args.data).unwrap_or_else(|_| args.data.clone());
+    inputs.extend(args.fits.iter().cloned());
+    for f in &report.files {
+        refuse_overwriting_input(&args.out.join(&f.name), &inputs)?;
     }
     let paths = report.write_to(&args.out).map_err(failed)?;
     let mut text = String::new();

@@ -1,7 +1,7 @@
 //! `stfit tables`: directional-albedo (energy-compensation) tables, and `stfit tables merge`.
 //! Argument parsing and printing only; the work is in `stfit-tables`.
 
-use super::{CmdError, CmdResult, print_stdout};
+use super::{CmdError, CmdResult, print_stdout, refuse_overwriting_input};
 use clap::{Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -273,6 +273,7 @@ fn write(path: &Path, bytes: &[u8]) -> CmdResult {
 }
 
 fn merge(m: &MergeArgs) -> CmdResult {
+    refuse_overwriting_input(&m.out, &m.shards)?;
     let mut files = Vec::with_capacity(m.shards.len());
     for path in &m.shards {
         let text = stfit_fit::files::read_input_text(path)
