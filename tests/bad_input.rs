@@ -149,6 +149,64 @@ fn sqrt_l_whose_square_overflows() {
     );
 }
 
+/// A nonzero number that reads as 0 (`1e-400`, or a `sqrt_L` whose square underflows) is
+/// refused at its line and column in every data reader. Such values had been read as 0, and a
+/// file of them refused as "every measured value is zero", which contradicts the file.
+#[test]
+fn nonzero_numbers_that_read_as_zero() {
+    let dir = CaseDir::new("underflow");
+    let too_small = "is not 0 but too small to be represented";
+    let l = dir.file(
+        "l.csv",
+        b"theta_i_deg,theta_o_deg,L\n0,180,1e-400\n0,170,1e-400\n30,170,1e-400\n30,190,1e-400\n",
+    );
+    expect_error(
+        &l,
+        &[],
+        Some(2),
+        Some("L"),
+        &format!("'1e-400' {too_small}"),
+    );
+    let sqrt = data(&dir, "a,30,170,1e-170\n");
+    expect_error(
+        &sqrt,
+        &[],
+        Some(3),
+        Some("sqrt_L"),
+        "1e-170 is too small: L = sqrt_L^2 underflows to 0",
+    );
+    let weight = dir.file(
+        "w.csv",
+        b"theta_i_deg,theta_o_deg,L,weight\n0,180,1,1\n0,181,1,1e-400\n",
+    );
+    expect_error(&weight, &[], Some(3), Some("weight"), too_small);
+    let general = dir.file(
+        "g.csv",
+        b"theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,bsdf\n30,0,150,0,1\n30,0,160,0,1e-400\n",
+    );
+    expect_error(&general, &[], Some(3), Some("bsdf"), too_small);
+    let pab = dir.file(
+        "m.txt",
+        b"#format: theta phi BSDF\n#intheta 30\n#inphi 0\n150 0 1e-400\n",
+    );
+    expect_error(&pab, &[], Some(4), Some("value"), too_small);
+    // Subnormal values are read: the fit refuses the sample for its largest value, in its own
+    // words, not as unreadable.
+    let tiny = dir.file(
+        "t.csv",
+        b"theta_i_deg,theta_o_deg,L\n0,180,1e-310\n0,170,0\n30,170,1e-320\n30,190,0\n",
+    );
+    let out = stfit(&[tiny.to_str().unwrap(), "--model", "ggx"]);
+    assert_eq!(out.code, Some(1), "{}", out.stderr);
+    assert!(
+        out.stderr
+            .contains("the largest value is 1e-310, below the normal range")
+            && !out.stderr.contains(too_small),
+        "{}",
+        out.stderr
+    );
+}
+
 #[test]
 fn negative_values() {
     let dir = CaseDir::new("negative");

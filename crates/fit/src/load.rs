@@ -117,6 +117,16 @@ pub enum LoadErrorKind {
     /// A numeric field is NaN or infinite.
     #[error("'{}' is not a finite number", crate::data::short(.0))]
     NonFinite(String),
+    /// A nonzero numeric field too small in magnitude for a double (at most 2^-1075, about
+    /// 2.47e-324, half the smallest subnormal): it would read as 0.
+    #[error(
+        "'{}' is not 0 but too small to be represented (magnitude at most about 2.47e-324): it would read as 0",
+        crate::data::short(.0)
+    )]
+    Unrepresentable(String),
+    /// A nonzero value whose derived quantity underflows to 0: `L` of a `sqrt_L`.
+    #[error("{value:e} is too small: {derived} underflows to 0")]
+    Underflow { value: f64, derived: &'static str },
     /// A value, `sqrt(L)` or weight field is negative.
     #[error("{} is negative; must be >= 0", show(*.0))]
     Negative(f64),
@@ -859,7 +869,8 @@ impl Header {
     }
 
     /// Validates one data row into its sample name and measurement: every recognised field
-    /// as `data-format.md` says, and a `sqrt_L` whose square `L` overflows refused.
+    /// as `data-format.md` says, and a `sqrt_L` whose square `L` overflows, or underflows to 0
+    /// while it is not 0, refused.
     fn row(
         &self,
         source: &Path,
@@ -929,6 +940,15 @@ impl Header {
                         },
                     ));
                 }
+                Role::Value(ValueColumn::SqrtL) if x * x == 0.0 && x != 0.0 => {
+                    return Err(err(
+                        column,
+                        LoadErrorKind::Underflow {
+                            value: x,
+                            derived: "L = sqrt_L^2",
+                        },
+                    ));
+                }
                 Role::Value(ValueColumn::SqrtL) => value = x * x,
                 Role::Value(_) => value = x,
                 Role::Weight => weight = x,
@@ -946,7 +966,9 @@ impl Header {
     }
 }
 
-/// Parses a decimal number that must be finite.
+/// Parses a decimal number that must be finite and, when it is not 0, must not read as 0: a
+/// nonzero number of magnitude at most about 2.47e-324 (`1e-400`) is refused, where a subnormal
+/// one (`1e-310`) is read as it is.
 pub(crate) fn parse_finite(text: &str) -> Result<f64, LoadErrorKind> {
     if text.is_empty() {
         return Err(LoadErrorKind::EmptyValue);
@@ -954,11 +976,15 @@ pub(crate) fn parse_finite(text: &str) -> Result<f64, LoadErrorKind> {
     let x: f64 = text
         .parse()
         .map_err(|_| LoadErrorKind::NotANumber(text.to_owned()))?;
-    if x.is_finite() {
-        Ok(x)
-    } else {
-        Err(LoadErrorKind::NonFinite(text.to_owned()))
+    if !x.is_finite() {
+        return Err(LoadErrorKind::NonFinite(text.to_owned()));
     }
+    // A zero read from digits that are not all zero (the exponent aside) underflowed.
+    let significand = text.split(['e', 'E']).next().unwrap_or_default();
+    if x == 0.0 && significand.bytes().any(|b| matches!(b, b'1'..=b'9')) {
+        return Err(LoadErrorKind::Unrepresentable(text.to_owned()));
+    }
+    Ok(x)
 }
 
 impl Dataset {
@@ -1286,6 +1312,56 @@ mod tests {
         );
         let d = load(&format!("{h}30,170,1e154\n")).unwrap();
         assert_eq!(d.samples[0].points[1].value, 1e154 * 1e154);
+    }
+
+    /// A nonzero number that reads as 0 (`1e-400`) is refused in every numeric column, and so
+    /// is a nonzero `sqrt_L` whose square underflows to 0; zeros however written, subnormal
+    /// values and a `sqrt_L` whose square is subnormal are read as they are.
+    #[test]
+    fn nonzero_numbers_that_read_as_zero_are_refused() {
+        let h = "sample,theta_i_deg,theta_o_deg,L,weight\na,0,180,1,1\n";
+        for (row, col, text) in [
+            ("a,0,180,1e-400,1", "L", "1e-400"),
+            ("a,0,180,1,1e-400", "weight", "1e-400"),
+            ("a,-0.0001e-321,180,1,1", "theta_i_deg", "-0.0001e-321"),
+            ("a,0,180,2e-324,1", "L", "2e-324"),
+        ] {
+            let (line, column, kind) = kind_at(&format!("{h}{row}\n"));
+            assert_eq!((line, column.as_deref()), (Some(3), Some(col)), "{row}");
+            assert_eq!(kind, LoadErrorKind::Unrepresentable(text.into()), "{row}");
+        }
+        let e = load(&format!("{h}a,0,180,1e-400,1\n")).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t.csv:3: column 'L': '1e-400' is not 0 but too small to be represented (magnitude at \
+             most about 2.47e-324): it would read as 0"
+        );
+        let d = load(&format!(
+            "{h}a,0,180,0e-400,0.000E+5\na,0,180,-0.0,1\na,0,180,1e-310,1\na,0,180,5e-324,1\n"
+        ))
+        .unwrap();
+        let values: Vec<f64> = d.samples[0].points.iter().map(|p| p.value).collect();
+        assert_eq!(values, [1.0, 0.0, 0.0, 1e-310, 5e-324]);
+        assert_eq!(d.samples[0].points[1].weight, 0.0);
+        let s = "theta_i_deg,theta_o_deg,sqrt_L\n0,180,1\n";
+        let (line, column, kind) = kind_at(&format!("{s}30,170,1e-170\n"));
+        assert_eq!((line, column.as_deref()), (Some(3), Some("sqrt_L")));
+        assert_eq!(
+            kind,
+            LoadErrorKind::Underflow {
+                value: 1e-170,
+                derived: "L = sqrt_L^2"
+            }
+        );
+        let e = load(&format!("{s}30,170,1e-170\n")).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t.csv:3: column 'sqrt_L': 1e-170 is too small: L = sqrt_L^2 underflows to 0"
+        );
+        let d = load(&format!("{s}30,170,1e-160\n30,170,0\n")).unwrap();
+        let values: Vec<f64> = d.samples[0].points.iter().map(|p| p.value).collect();
+        assert_eq!(values, [1.0, 1e-160 * 1e-160, 0.0]);
+        assert!(values[1] > 0.0 && !values[1].is_normal());
     }
 
     #[test]

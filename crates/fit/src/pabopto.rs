@@ -708,6 +708,41 @@ mod tests {
         assert_eq!(pts[0].value, 1e300);
     }
 
+    /// A nonzero number that reads as 0 is refused at its line and field, in the header and in
+    /// the data; a subnormal value is read as it is.
+    #[test]
+    fn nonzero_numbers_that_read_as_zero_are_refused() {
+        let head = "#format: theta phi BSDF\n#intheta 30\n#inphi 0\n";
+        let cases = [
+            (format!("{head}150 0 1\n160 0 1e-400\n"), 5, "value"),
+            (format!("{head}150 1e-999 1\n"), 4, "phi"),
+            (
+                "#format: theta phi DSF\n#intheta 3e-330\n#inphi 0\n150 0 1\n".to_owned(),
+                2,
+                "#intheta",
+            ),
+            (
+                format!("{head}#colorimetry: CIE-XYZ\n150 0 1 1 -1e-400\n"),
+                5,
+                "Z",
+            ),
+        ];
+        for (text, line, column) in cases {
+            let e = read(&text).unwrap_err();
+            assert_eq!(
+                (e.line, e.column.as_deref()),
+                (Some(line), Some(column)),
+                "{text:?}"
+            );
+            assert!(
+                matches!(e.kind, LoadErrorKind::Unrepresentable(_)),
+                "{text:?}: {e}"
+            );
+        }
+        let (_, pts) = read(&format!("{head}150 0 1e-310\n")).unwrap();
+        assert_eq!(pts[0].value, 1e-310);
+    }
+
     /// Malformed files name their line and field.
     #[test]
     fn errors_name_line_and_field() {
