@@ -364,7 +364,7 @@ fn out_onto_a_data_file_by_any_path_is_refused() {
         assert_eq!(out.code, Some(2), "{args:?}: {}", out.stderr);
         assert!(
             out.stderr.contains(&format!(
-                "is the data file {named}; refusing to overwrite it"
+                "is the input file {named}; refusing to overwrite it"
             )),
             "{args:?}: {}",
             out.stderr
@@ -382,7 +382,7 @@ fn expect_out_refused(args: &[&str], named: &str, kept: &Path) {
     assert_eq!(out.code, Some(2), "{args:?}: {}", out.stderr);
     assert!(
         out.stderr.contains(&format!(
-            "is the data file {named}; refusing to overwrite it"
+            "is the input file {named}; refusing to overwrite it"
         )),
         "{args:?}: {}",
         out.stderr

@@ -101,7 +101,7 @@ pub fn write_file(path: &Path, text: &str) -> CmdResult {
 pub fn refuse_overwriting_input(out: &Path, inputs: &[PathBuf]) -> CmdResult {
     match inputs.iter().find(|p| same_file(out, p)) {
         Some(path) => Err(usage(format!(
-            "--out {} is the data file {}; refusing to overwrite it",
+            "--out {} is the input file {}; refusing to overwrite it",
             out.display(),
             path.display()
         ))),
