@@ -112,13 +112,24 @@ const SURROGATE_STEP_ETA: f64 = 0.06;
 /// Most surrogates built in one fit: after the last, its optimum is taken wherever it lies.
 const SURROGATE_ROUNDS: usize = 5;
 
+/// `n` and `noun`, in the plural unless `n` is 1: "1 parameter", "2 parameters".
+fn counted(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 /// Why a fit could not be made.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum FitError {
     /// Fewer usable points (finite, positive weight) than the fit needs.
     #[error(
-        "sample `{}`: {n} usable points, a fit with {params} parameters needs at least {needed}",
-        short(sample)
+        "sample `{}`: {}, a fit with {} needs at least {needed}",
+        short(sample),
+        counted(*n, "usable point"),
+        counted(*params, "parameter")
     )]
     TooFewPoints {
         sample: String,
@@ -1411,6 +1422,23 @@ mod tests {
             }
         }
         assert!(sandwich_covariance(&[vec![1.0, 2.0], vec![1.0, 1.0]], &[0.0, 0.0]).is_none());
+    }
+
+    /// A count is in the singular for 1 only, so a fit of one parameter reads "1 parameter".
+    #[test]
+    fn too_few_points_counts_in_words() {
+        let e = FitError::TooFewPoints {
+            sample: "s".into(),
+            n: 1,
+            params: 1,
+            needed: 2,
+        };
+        assert_eq!(
+            e.to_string(),
+            "sample `s`: 1 usable point, a fit with 1 parameter needs at least 2"
+        );
+        assert_eq!(counted(0, "usable point"), "0 usable points");
+        assert_eq!(counted(3, "parameter"), "3 parameters");
     }
 
     #[test]
