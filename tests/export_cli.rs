@@ -480,6 +480,65 @@ fn shipped_example_exports_are_current() {
     assert_eq!(compared, 28);
 }
 
+/// The shipped Radiance example panes (`fits/export/*_student_t-radiance.xml`) are what the
+/// current code writes from the shipped fits, apart from what depends on the number of walks:
+/// an export with 4 walks per patch (the full 65,536 take 24 s a sample) gives the same lines
+/// outside the `ScatteringData` blocks and the two comments that report the walks' Monte Carlo
+/// error and totals (the source fit, its scale, the model, the angle basis, the layout).
+#[test]
+fn shipped_radiance_examples_are_current_but_for_their_walks() {
+    let dir = CaseDir::new("export-radiance-examples");
+    let fits = example_fits();
+    let walk_free = |text: &str| -> Vec<String> {
+        let mut inside = false;
+        let mut kept = Vec::new();
+        for line in text.lines() {
+            let trimmed = line.trim();
+            if trimmed == "<ScatteringData>" {
+                inside = true;
+            } else if trimmed == "</ScatteringData>" {
+                inside = false;
+            } else if !inside
+                && !trimmed.starts_with("<!-- Patch averages by Monte Carlo")
+                && !trimmed.starts_with("<!-- Hemispherical totals")
+            {
+                kept.push(line.to_string());
+            }
+        }
+        kept
+    };
+    for sample in ["frosted", "etched", "ground"] {
+        let name = format!("{sample}_student_t-radiance.xml");
+        let out = dir.join(&name);
+        cli()
+            .run(&[
+                "export",
+                &fits,
+                "--to",
+                "radiance",
+                "--sample",
+                sample,
+                "--model",
+                "student-t",
+                "--walks",
+                "4",
+                "--out",
+                out.to_str().unwrap(),
+            ])
+            .ok();
+        let shipped = std::fs::read_to_string(project_root().join("fits/export").join(&name))
+            .unwrap_or_else(|e| panic!("fits/export/{name}: {e}"));
+        let now = std::fs::read_to_string(&out).unwrap();
+        let (shipped, now) = (walk_free(&shipped), walk_free(&now));
+        assert!(shipped.len() > 100, "{name}: {} lines kept", shipped.len());
+        assert!(
+            shipped == now,
+            "fits/export/{name} differs from what `stfit export` writes now outside its walks; \
+             regenerate it (fits/export/README.md)"
+        );
+    }
+}
+
 /// One walk per Klems patch cannot estimate the standard errors a Radiance pane file states:
 /// refused (exit 2); two are rounded up to a square (4) and the file says so.
 #[test]
