@@ -234,6 +234,11 @@ impl LoadError {
             kind,
         }
     }
+
+    /// The error of an I/O failure on the file or folder at `path`.
+    fn io(path: &Path, e: std::io::Error) -> Self {
+        Self::new(path, None, None, LoadErrorKind::Io(e.to_string()))
+    }
 }
 
 /// Reads and validates the measurement file at `path`: a CSV file (`data-format.md`, in-plane
@@ -248,9 +253,6 @@ pub fn load_path(path: &Path) -> Result<Dataset, LoadError> {
 /// order of first appearance. The dataset's source is the one path given, or the paths joined
 /// by `, `.
 pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
-    let io = |p: &Path, e: std::io::Error| {
-        LoadError::new(p, None, None, LoadErrorKind::Io(e.to_string()))
-    };
     let files = data_files(paths)?;
     let mut seen: Vec<(FileId, &PathBuf)> = Vec::new();
     for file in &files {
@@ -273,7 +275,7 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
     // Where each sample name is in `samples`: a file of many samples merges in linear time.
     let mut index: HashMap<String, usize> = HashMap::new();
     for file in &files {
-        let bytes = crate::files::read_input(file).map_err(|e| io(file, e))?;
+        let bytes = crate::files::read_input(file).map_err(|e| LoadError::io(file, e))?;
         let parts = if crate::pabopto::is_pabopto(&bytes) {
             let (name, points) = crate::pabopto::read_pabopto(file, &bytes)?;
             vec![(Sample { name, points }, None)]
@@ -317,7 +319,7 @@ pub fn data_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, LoadError> {
     for path in paths {
         if path.is_dir() {
             let mut inside: Vec<PathBuf> = std::fs::read_dir(path)
-                .map_err(|e| LoadError::new(path, None, None, LoadErrorKind::Io(e.to_string())))?
+                .map_err(|e| LoadError::io(path, e))?
                 .filter_map(Result::ok)
                 .map(|e| e.path())
                 .filter(|p| {
@@ -588,8 +590,7 @@ pub type CsvHeader = (u64, Vec<String>);
 /// The bytes of the CSV file at `path` ([`crate::files::read_input`]) and its header (its
 /// first record, as the loader reads it), or `None` for a file with none.
 pub fn read_header(path: &Path) -> Result<(Vec<u8>, Option<CsvHeader>), LoadError> {
-    let bytes = crate::files::read_input(path)
-        .map_err(|e| LoadError::new(path, None, None, LoadErrorKind::Io(e.to_string())))?;
+    let bytes = crate::files::read_input(path).map_err(|e| LoadError::io(path, e))?;
     let header = header_of(path, &bytes)?;
     Ok((bytes, header))
 }
