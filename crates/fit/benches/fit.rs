@@ -124,5 +124,20 @@ fn bench_general(c: &mut Criterion) {
     );
 }
 
-criterion_group!(benches, bench, bench_multiple, bench_general);
+/// Reading a file of 200,000 one-row samples (3.1 MB): the merge of samples by name is linear
+/// in their number (it had been quadratic: 100,000 took over a minute).
+fn bench_load(c: &mut Criterion) {
+    let path = std::env::temp_dir().join(format!("stfit-bench-many-{}.csv", std::process::id()));
+    let mut text = String::from("sample,theta_i_deg,theta_o_deg,L\n");
+    for k in 0..200_000 {
+        text += &format!("s{k},0,170,1\n");
+    }
+    std::fs::write(&path, text).unwrap();
+    c.bench_function("load 200,000 one-row samples", |b| {
+        b.iter(|| stfit_fit::load_path(black_box(&path)).unwrap())
+    });
+    std::fs::remove_file(&path).unwrap();
+}
+
+criterion_group!(benches, bench, bench_multiple, bench_general, bench_load);
 criterion_main!(benches);

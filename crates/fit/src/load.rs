@@ -1625,11 +1625,12 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
-    /// A file of many samples reads in linear time: merging each file's samples by name had
-    /// compared every name with every earlier one, and 100,000 one-row samples (1.8 MB) took
-    /// over a minute; 200,000 now take well under a second.
+    /// A file of 200,000 one-row samples reads as 200,000 samples in file order. Merging each
+    /// file's samples by name had compared every name with every earlier one (100,000 samples
+    /// took over a minute); the time is measured by the `load 200,000 one-row samples` bench
+    /// (`cargo bench -p stfit-fit --bench fit -- load`), not here.
     #[test]
-    fn many_samples_merge_in_linear_time() {
+    fn many_samples_read_in_file_order() {
         let dir = std::env::temp_dir().join(format!("stfit-load-many-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
@@ -1640,12 +1641,12 @@ mod tests {
         }
         let path = dir.join("many.csv");
         std::fs::write(&path, text).unwrap();
-        let start = std::time::Instant::now();
         let d = load_paths(&[path]).unwrap();
-        let took = start.elapsed();
         assert_eq!(d.samples.len(), n);
-        assert_eq!(d.samples[n - 1].name, format!("s{}", n - 1));
-        assert!(took.as_secs_f64() < 20.0, "took {took:?}");
+        for (k, s) in d.samples.iter().enumerate() {
+            assert_eq!(s.name, format!("s{k}"));
+            assert_eq!(s.points.len(), 1);
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
