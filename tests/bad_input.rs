@@ -88,6 +88,46 @@ fn missing_angle_column() {
     expect_error(&path, &[], Some(1), Some("theta_o_deg"), "missing");
 }
 
+/// A column that changes how a file is read (`sample`, `weight`, `phi_i_deg`, `phi_o_deg`)
+/// written in another case is refused: ignored, `Sample` would merge every sample into one fit
+/// and `Weight` would weigh every point 1. With the exact name present, a variant is an extra
+/// column, ignored.
+#[test]
+fn case_variant_of_a_column_that_changes_the_reading() {
+    let dir = CaseDir::new("case-variant");
+    let merged = dir.file(
+        "s.csv",
+        b"Sample,theta_i_deg,theta_o_deg,L\na,0,180,1\nb,0,180,2\n",
+    );
+    let e = expect_error(&merged, &[], Some(1), Some("sample"), "field 1 is 'Sample'");
+    assert!(e.contains("case-sensitive"), "{e}");
+    let weights = dir.file("w.csv", b"theta_i_deg,theta_o_deg,L,WEIGHT\n0,180,1,2\n");
+    expect_error(
+        &weights,
+        &[],
+        Some(1),
+        Some("weight"),
+        "field 4 is 'WEIGHT'",
+    );
+    let general = dir.file(
+        "g.csv",
+        b"theta_i_deg,Phi_i_deg,theta_o_deg,phi_o_deg,bsdf\n0,0,170,0,1\n",
+    );
+    expect_error(
+        &general,
+        &[],
+        Some(1),
+        Some("phi_i_deg"),
+        "field 2 is 'Phi_i_deg'",
+    );
+    let both = dir.file(
+        "both.csv",
+        b"sample,Sample,theta_i_deg,theta_o_deg,L\na,x,0,180,1\na,y,30,200,1\na,z,60,140,1\n",
+    );
+    let out = stfit(&[both.to_str().unwrap(), "--model", "ggx"]);
+    assert_eq!(out.code, Some(0), "{}", out.stderr);
+}
+
 #[test]
 fn duplicated_value_column() {
     let dir = CaseDir::new("dup-value");

@@ -99,6 +99,16 @@ pub enum LoadErrorKind {
         "'bsdf' is the value column of general files, which have phi_i_deg and phi_o_deg"
     })]
     ValueOfOtherForm { general: bool },
+    /// An optional column, or one that makes a file general, is not in the header, but a
+    /// name that differs from it only in case is (field `field`, 1-based): read as an
+    /// unrecognised column it would change the data silently (every sample merged into one,
+    /// every weight 1, or a general file read as in-plane).
+    #[error(
+        "not in the header, but field {field} is '{}': column names are case-sensitive, so \
+         rename it (or give it another name to have it ignored)",
+        crate::data::short(found)
+    )]
+    CaseVariantColumn { found: String, field: usize },
     /// Both `L` and `sqrt_L` are in the header.
     #[error("'L' and 'sqrt_L' are both present; give exactly one value column")]
     BothValueColumns,
@@ -814,7 +824,24 @@ impl Header {
                 )
             })
         };
-        let (phi_i, phi_o) = (find(COL_PHI_I)?, find(COL_PHI_O)?);
+        // A column whose absence changes how the file is read rather than failing it: its
+        // name in another case is refused, not ignored.
+        let optional = |wanted: &str| -> Result<Option<usize>, LoadError> {
+            let Some(i) = find(wanted)? else {
+                return match names.iter().position(|n| n.eq_ignore_ascii_case(wanted)) {
+                    Some(field) => Err(at(
+                        wanted,
+                        LoadErrorKind::CaseVariantColumn {
+                            found: names[field].clone(),
+                            field: field + 1,
+                        },
+                    )),
+                    None => Ok(None),
+                };
+            };
+            Ok(Some(i))
+        };
+        let (phi_i, phi_o) = (optional(COL_PHI_I)?, optional(COL_PHI_O)?);
         let general = phi_i.is_some() || phi_o.is_some();
         let mut columns = vec![
             (required(COL_THETA_I)?, Role::ThetaI),
@@ -858,8 +885,8 @@ impl Header {
             };
             columns.push((value.0, Role::Value(value.1)));
         }
-        columns.extend(find(COL_SAMPLE)?.map(|i| (i, Role::Sample)));
-        columns.extend(find(COL_WEIGHT)?.map(|i| (i, Role::Weight)));
+        columns.extend(optional(COL_SAMPLE)?.map(|i| (i, Role::Sample)));
+        columns.extend(optional(COL_WEIGHT)?.map(|i| (i, Role::Weight)));
         columns.sort_unstable_by_key(|c| c.0);
         Ok(Self {
             len: names.len(),
