@@ -264,12 +264,13 @@ pub fn load_path(path: &Path) -> Result<Dataset, LoadError> {
 /// by `, `.
 pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
     let files = data_files(paths)?;
-    let mut seen: Vec<(FileId, &PathBuf)> = Vec::new();
+    // The first path of each file read: a folder of many files is checked in linear time.
+    let mut seen: HashMap<FileId, &PathBuf> = HashMap::new();
     for file in &files {
         let Some(id) = FileId::of(file) else {
             continue;
         };
-        if let Some((_, first)) = seen.iter().find(|(c, _)| *c == id) {
+        if let Some(first) = seen.get(&id) {
             let first = first.display().to_string();
             return Err(LoadError::new(
                 file,
@@ -278,7 +279,7 @@ pub fn load_paths(paths: &[PathBuf]) -> Result<Dataset, LoadError> {
                 LoadErrorKind::Repeated(first),
             ));
         }
-        seen.push((id, file));
+        seen.insert(id, file);
     }
     // Each sample with the file and line of its first row, to place a sample-wide error.
     let mut samples: Vec<(Sample, &Path, Option<u64>)> = Vec::new();
