@@ -798,16 +798,23 @@ fn fit_with_surrogate(
     unreachable!("the last round returns")
 }
 
-/// The best local minimum of `eval`'s cost from `starts`, and the iterations of all of them.
+/// The best local minimum of `eval`'s cost from `starts` (the first of equal ones), and the
+/// iterations of all of them.
 fn search(
     eval: &Evaluator,
     starts: Vec<Vec<f64>>,
 ) -> Result<(crate::optimize::Minimum, u64), FitError> {
+    // The searches are independent: run in parallel, taken in the order of `starts`, so the
+    // result does not depend on the number of threads.
+    let found: Vec<_> = starts
+        .par_iter()
+        .map(|x0| minimize(|x| eval.cost(x), x0, eval.opts.optimizer))
+        .collect();
     let mut best: Option<crate::optimize::Minimum> = None;
     let mut iterations = 0;
     let mut evaluations = 0;
-    for x0 in starts {
-        match minimize(|x| eval.cost(x), &x0, eval.opts.optimizer) {
+    for result in found {
+        match result {
             Ok(m) => {
                 iterations += m.iterations;
                 if best.as_ref().is_none_or(|b| m.cost < b.cost) {
@@ -837,8 +844,10 @@ fn search(
 /// miss the piece of the optimum. The cost is evaluated at the middle of every piece (in
 /// `ln(eta - 1)`; at even steps when there are more than [`ETA_PIECES_MAX`]) at `best`'s
 /// alpha and gamma, and local searches start from the points that beat `best`, best first (at
-/// most [`MAX_STARTS`]), until none finds a lower cost (at most [`ETA_HOP_ROUNDS`] times).
-/// With eta held, `best` as it is.
+/// most [`MAX_STARTS`]), and from the middles of the two pieces beside `best`'s whether they
+/// beat it or not (once each: across a jump near the optimum, alpha and gamma held at `best`'s
+/// can fit far worse than after a search), until none finds a lower cost (at most
+/// [`ETA_HOP_ROUNDS`] times). With eta held, `best` as it is.
 fn hop_eta(
     eval: &Evaluator,
     mut best: crate::optimize::Minimum,
@@ -847,25 +856,41 @@ fn hop_eta(
     if !eval.shape.eta.is_free() {
         return Ok((best, iterations));
     }
-    let middles = eta_scan(&eval.prep.forward.horizontal_etas(ETA_MIN, ETA_MAX));
+    let jumps = eval.prep.forward.horizontal_etas(ETA_MIN, ETA_MAX);
+    let middles = eta_scan(&jumps);
+    let mut searched = vec![false; middles.len()];
     for _ in 0..ETA_HOP_ROUNDS {
         let at = eval.shape.point(&best.x);
+        let coords = |m: f64| {
+            eval.shape.coords(Point {
+                eta: 1.0 + m.exp(),
+                ..at
+            })
+        };
+        let piece = eta_piece(&jumps, (at.eta - 1.0).ln());
+        let mut starts = Vec::new();
+        for k in [piece.checked_sub(1), Some(piece + 1)]
+            .into_iter()
+            .flatten()
+        {
+            if k < middles.len() && !searched[k] {
+                searched[k] = true;
+                starts.push(coords(middles[k]));
+            }
+        }
         let mut below: Vec<(f64, Vec<f64>)> = middles
             .par_iter()
             .map(|&m| {
-                let x = eval.shape.coords(Point {
-                    eta: 1.0 + m.exp(),
-                    ..at
-                });
+                let x = coords(m);
                 (eval.cost(&x), x)
             })
             .filter(|(c, _)| *c < best.cost)
             .collect();
-        if below.is_empty() {
+        below.sort_by(|a, b| a.0.total_cmp(&b.0));
+        starts.extend(below.into_iter().take(MAX_STARTS).map(|(_, x)| x));
+        if starts.is_empty() {
             break;
         }
-        below.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let starts = below.into_iter().take(MAX_STARTS).map(|(_, x)| x).collect();
         let (found, it) = search(eval, starts)?;
         iterations += it;
         if found.cost >= best.cost {
@@ -874,6 +899,18 @@ fn hop_eta(
         best = found;
     }
     Ok((best, iterations))
+}
+
+/// The index in [`eta_scan`]'s points of the piece holding `x = ln(eta - 1)`: the piece
+/// between the jumps around it, or, for more than [`ETA_PIECES_MAX`] pieces, the even step.
+fn eta_piece(jumps: &[f64], x: f64) -> usize {
+    if jumps.len() < ETA_PIECES_MAX {
+        jumps.partition_point(|&j| (j - 1.0).ln() < x)
+    } else {
+        let (lo, hi) = ((ETA_MIN - 1.0).ln(), (ETA_MAX - 1.0).ln());
+        let n = ETA_PIECES_MAX as f64;
+        ((x - lo) / (hi - lo) * n).floor().clamp(0.0, n - 1.0) as usize
+    }
 }
 
 /// The points of `ln(eta - 1)` that [`hop_eta`] scans, given the ascending indices in
@@ -1329,7 +1366,8 @@ mod tests {
     use super::*;
 
     /// The eta scan puts one point strictly inside every piece between the jumps, and at most
-    /// `ETA_PIECES_MAX` points, evenly spread over the whole range, when the jumps are more.
+    /// `ETA_PIECES_MAX` points, evenly spread over the whole range, when the jumps are more;
+    /// `eta_piece` finds the scan point of the piece (or step) holding an index.
     #[test]
     fn eta_scan_has_a_point_in_every_piece_or_an_even_cover() {
         let x = |e: f64| (e - 1.0).ln();
@@ -1339,9 +1377,11 @@ mod tests {
         ends.extend(jumps);
         ends.push(ETA_MAX);
         assert_eq!(scan.len(), ends.len() - 1);
-        for (m, w) in scan.iter().zip(ends.windows(2)) {
+        for (k, (m, w)) in scan.iter().zip(ends.windows(2)).enumerate() {
             assert!(x(w[0]) < *m && *m < x(w[1]), "{m} not in {w:?}");
+            assert_eq!(eta_piece(&jumps, *m), k);
         }
+        assert_eq!(eta_piece(&jumps, x(1.403)), 2);
         assert_eq!(eta_scan(&[]).len(), 1);
         let many: Vec<f64> = (1..1000).map(|k| 1.05 + 1.95 * k as f64 / 1000.0).collect();
         let scan = eta_scan(&many);
@@ -1349,6 +1389,10 @@ mod tests {
         let step = (x(ETA_MAX) - x(ETA_MIN)) / ETA_PIECES_MAX as f64;
         assert!((scan[0] - x(ETA_MIN) - step / 2.0).abs() < 1e-12);
         assert!(scan.windows(2).all(|w| (w[1] - w[0] - step).abs() < 1e-12));
+        for (k, m) in scan.iter().enumerate() {
+            assert_eq!(eta_piece(&many, *m), k);
+        }
+        assert_eq!(eta_piece(&many, x(ETA_MAX)), ETA_PIECES_MAX - 1);
     }
 
     /// HC3's meat is that of the residuals of the least-squares fits without each point: a
