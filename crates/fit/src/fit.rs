@@ -901,13 +901,19 @@ fn hop_eta(
     Ok((best, iterations))
 }
 
+/// The free eta's search range `[ETA_MIN, ETA_MAX]` in `ln(eta - 1)`, where [`eta_scan`]
+/// spreads its points.
+fn ln_eta_range() -> (f64, f64) {
+    ((ETA_MIN - 1.0).ln(), (ETA_MAX - 1.0).ln())
+}
+
 /// The index in [`eta_scan`]'s points of the piece holding `x = ln(eta - 1)`: the piece
 /// between the jumps around it, or, for more than [`ETA_PIECES_MAX`] pieces, the even step.
 fn eta_piece(jumps: &[f64], x: f64) -> usize {
     if jumps.len() < ETA_PIECES_MAX {
         jumps.partition_point(|&j| (j - 1.0).ln() < x)
     } else {
-        let (lo, hi) = ((ETA_MIN - 1.0).ln(), (ETA_MAX - 1.0).ln());
+        let (lo, hi) = ln_eta_range();
         let n = ETA_PIECES_MAX as f64;
         ((x - lo) / (hi - lo) * n).floor().clamp(0.0, n - 1.0) as usize
     }
@@ -917,7 +923,7 @@ fn eta_piece(jumps: &[f64], x: f64) -> usize {
 /// `(ETA_MIN, ETA_MAX)` where the cost jumps: the middle of every piece of the search range
 /// they cut, or, for more than [`ETA_PIECES_MAX`] pieces, that many even steps.
 fn eta_scan(jumps: &[f64]) -> Vec<f64> {
-    let (lo, hi) = ((ETA_MIN - 1.0).ln(), (ETA_MAX - 1.0).ln());
+    let (lo, hi) = ln_eta_range();
     if jumps.len() < ETA_PIECES_MAX {
         let mut ends = vec![lo];
         ends.extend(jumps.iter().map(|e| (e - 1.0).ln()));
