@@ -398,3 +398,49 @@ fn python_exports_parse_as_python() {
         );
     }
 }
+
+/// The first GGX fit of the example fits with a hostile sample name and data file: hyphens in
+/// runs of three and at the end (XML forbids `--` in a comment), and a data file name with a
+/// line break, a control character and code after it (a hand-edited fits file).
+fn hostile_fit() -> stfit_fit::FitResult {
+    let path = stfit_test_support::project_root().join("fits/example-fits.json");
+    let file = stfit_fit::FitsFile::read(&path).unwrap();
+    let mut fit = file
+        .fits
+        .into_iter()
+        .find(|f| f.model.kind == ModelKind::Ggx)
+        .unwrap();
+    fit.sample = "a---b-->c-".into();
+    fit.data = Some("x---\nimport os\u{1}\r\n// -->".into());
+    fit
+}
+
+/// Free texts of a fit (sample, data file) cannot break a file's syntax: the XML files stay
+/// well-formed and every line of the other files that is not a comment is the target's own
+/// code (no text of the fit's data file outside a comment).
+#[test]
+fn hostile_sample_and_data_names_stay_inside_comments() {
+    let fit = hostile_fit();
+    let opts = stfit_export::radiance::RadianceOptions::default();
+    for t in Target::ALL.into_iter().filter(|&t| t != Target::Radiance) {
+        let e = stfit_export::export_fit(&fit, t, &opts).unwrap();
+        for f in &e.files {
+            let what = format!("{} .{}", t.name(), f.extension);
+            match f.extension {
+                "xml" | "mtlx" => {
+                    roxmltree::Document::parse(&f.text)
+                        .unwrap_or_else(|err| panic!("{what}: {err}\n{}", f.text));
+                }
+                _ => {
+                    let comment = if f.extension == "vrscene" { "//" } else { "#" };
+                    for line in f.text.lines() {
+                        assert!(
+                            line.trim_start().starts_with(comment) || !line.contains("import os"),
+                            "{what}: the fit's data escaped its comment: {line:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

@@ -8,7 +8,9 @@
 //! `G = smith_g1(wi) smith_g1(wo)` (include/mitsuba/render/microfacet.h; Beckmann's G1 there is
 //! a rational approximation, [`Smith::MitsubaSeparable`]).
 
-use super::{Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet};
+use super::{
+    Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet, xml_comment_text,
+};
 use crate::target::Smith;
 use crate::translate::{Reference, Translation};
 use crate::{ExportError, ExportModel};
@@ -68,7 +70,7 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
     );
     let mut xml = String::from("<!--\n");
     for n in &notes {
-        xml.push_str(&format!("  {}\n", n.replace("--", "- -")));
+        xml.push_str(&format!("  {}\n", xml_comment_text(n)));
     }
     xml.push_str("-->\n");
     xml.push_str(&format!(

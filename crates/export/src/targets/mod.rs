@@ -276,6 +276,30 @@ pub fn translate_microfacet(
     }
 }
 
+/// `text` made safe inside an XML comment (`<!-- ... -->`): XML 1.0 forbids `--` there, so a
+/// space goes between any two hyphens in a row (a run of three or more included, which one
+/// replacement of `--` by `- -` would leave as `- --`) and after a final hyphen (which would
+/// run into the closing `-->`); characters XML 1.0 does not allow (control characters other
+/// than tab and line breaks, U+FFFE, U+FFFF) become U+FFFD.
+pub fn xml_comment_text(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if c == '-' && out.ends_with('-') {
+            out.push(' ');
+        }
+        let allowed = !c.is_control() || matches!(c, '\t' | '\n' | '\r');
+        out.push(if allowed && c != '\u{FFFE}' && c != '\u{FFFF}' {
+            c
+        } else {
+            '\u{FFFD}'
+        });
+    }
+    if out.ends_with('-') {
+        out.push(' ');
+    }
+    out
+}
+
 /// Comment lines shared by every target: the source fit and the translation.
 pub fn provenance(
     model: &ExportModel,
