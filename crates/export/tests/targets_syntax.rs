@@ -444,3 +444,34 @@ fn hostile_sample_and_data_names_stay_inside_comments() {
         }
     }
 }
+
+/// A sample named by a number (`2024`) still gives valid Python: its identifier, a Python
+/// variable (Mitsuba 3) and function name (Cycles), does not start with a digit.
+#[test]
+fn python_exports_of_a_sample_named_by_a_number_parse_as_python() {
+    if Command::new("python3").arg("--version").output().is_err() {
+        assert!(!under_ci(), "CI=true but python3 is missing");
+        eprintln!("python_exports_of_a_sample_named_by_a_number: did not run for want of python3");
+        return;
+    }
+    let mut fit = hostile_fit();
+    fit.sample = "2024".into();
+    let dir = CaseDir::new("python-exports-number");
+    let opts = stfit_export::radiance::RadianceOptions::default();
+    for t in [Target::Mitsuba3, Target::Cycles] {
+        let e = stfit_export::export_fit(&fit, t, &opts).unwrap();
+        let py = &e.files.iter().find(|f| f.extension == "py").unwrap().text;
+        let path = dir.file(&format!("{}.py", t.name()), py);
+        let out = Command::new("python3")
+            .args(["-c", "import ast, sys; ast.parse(open(sys.argv[1]).read())"])
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            t.name(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}

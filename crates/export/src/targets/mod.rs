@@ -106,6 +106,9 @@ pub const MAX_SAMPLE_CHARS: usize = 100;
 /// character outside `[A-Za-z0-9]` replaced by `_`, such as `frosted_student_t` and
 /// `frosted_student_t_gamma_fixed`; the sample's name is cut to its first
 /// [`MAX_SAMPLE_CHARS`] characters, so that file names stay within every file system's limit.
+/// An identifier that would start with a digit (a sample named `2024 frosted`) starts with `_`
+/// instead (`_2024_frosted_ggx`): it names a Python variable and function in the Mitsuba 3 and
+/// Cycles scripts, where a leading digit is a syntax error.
 pub fn fit_identifier(fit: &FitResult) -> String {
     let suffix = if fit.model.gamma.is_fixed() {
         "-gamma-fixed"
@@ -113,10 +116,15 @@ pub fn fit_identifier(fit: &FitResult) -> String {
         ""
     };
     let sample: String = fit.sample.chars().take(MAX_SAMPLE_CHARS).collect();
-    format!("{sample}-{}{suffix}", fit.model.kind.name())
+    let id: String = format!("{sample}-{}{suffix}", fit.model.kind.name())
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
-        .collect()
+        .collect();
+    if id.starts_with(|c: char| c.is_ascii_digit()) {
+        format!("_{id}")
+    } else {
+        id
+    }
 }
 
 /// Which stored fits to export: all, or those of one sample and/or one model (gamma free or held
