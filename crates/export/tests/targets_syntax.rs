@@ -475,3 +475,26 @@ fn python_exports_of_a_sample_named_by_a_number_parse_as_python() {
         );
     }
 }
+
+/// Roughness below what a renderer renders as rough is said: pbrt-v4 scatters alpha < 1e-3 as
+/// a smooth dielectric, Mitsuba 3 raises alpha to 1e-4. Alpha 1e-3 itself (the fits' own
+/// floor) is rough in pbrt, in its single precision too.
+#[test]
+fn renderer_roughness_floors_are_warned() {
+    let warned = |t: Target, alpha: f64, what: &str| {
+        let m = model(ModelKind::Ggx, alpha, Gamma::NotApplicable);
+        let e = targets::export(t, &m, "x").unwrap();
+        e.warnings.iter().any(|w| w.contains(what))
+    };
+    assert!(warned(Target::PbrtV4, 5e-4, "perfectly smooth"));
+    assert!(!warned(Target::PbrtV4, 1e-3, "perfectly smooth"));
+    assert!(!warned(Target::PbrtV4, 0.2, "perfectly smooth"));
+    assert!(warned(Target::Mitsuba3, 5e-5, "renders alpha 0.0001"));
+    assert!(!warned(Target::Mitsuba3, 1e-3, "renders alpha"));
+    // A near-smooth Student-T fit translated below pbrt's threshold.
+    let st = model(ModelKind::StudentT, 1e-3, Gamma::Fixed(10.0));
+    let e = targets::export(Target::PbrtV4, &st, "x").unwrap();
+    let alpha = e.translation.unwrap().params[0].value.sqrt();
+    assert!(alpha < 1e-3, "{alpha}");
+    assert!(e.warnings.iter().any(|w| w.contains("perfectly smooth")));
+}
