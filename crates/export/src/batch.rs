@@ -282,6 +282,18 @@ mod tests {
         assert_eq!(fit_identifier(&fit("Ωμέγα é")), "________beckmann");
     }
 
+    /// An identifier never starts with a digit (it names Python variables and functions):
+    /// `_` goes before one that would.
+    #[test]
+    fn identifiers_do_not_start_with_a_digit() {
+        assert_eq!(
+            fit_identifier(&fit("2024 frosted")),
+            "_2024_frosted_beckmann"
+        );
+        assert_eq!(fit_identifier(&fit("")), "_beckmann");
+        assert_eq!(fit_identifier(&fit("x2")), "x2_beckmann");
+    }
+
     /// One file named with the extension of a later file type would receive both: refused
     /// (Mitsuba writes .xml first, then .py beside it).
     #[test]

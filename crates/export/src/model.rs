@@ -27,14 +27,20 @@ pub struct ExportModel {
 impl ExportModel {
     /// The model of a stored fit, described by the fit's sample, model, rmse, data file and
     /// stfit version.
+    ///
+    /// The description goes into comments of every target's file, so the fit's free texts (its
+    /// data file and stfit version, as well as its sample, which [`FitResult::label`] escapes)
+    /// have their control characters escaped (`\n` as the two characters `\` `n`): a line
+    /// break in a hand-edited fits file would otherwise end a `#` or `//` comment and put the
+    /// rest of the text into the scene file or script as code.
     pub fn from_fit(fit: &FitResult) -> Result<Self, ExportError> {
-        let data = fit.data.as_deref().unwrap_or("data not from a file");
+        let data = escape_control(fit.data.as_deref().unwrap_or("data not from a file"));
         let source = format!(
             "{}, rmse sqrt(L) {:.4} over {} points of {data}, fitted by stfit {}",
             fit.label(),
             fit.rmse_sqrt_l,
             fit.n_points,
-            fit.stfit_version
+            escape_control(&fit.stfit_version)
         );
         Self::new(fit.model, source)
     }
@@ -142,6 +148,21 @@ impl ExportModel {
         out.iter_mut().zip(&q).for_each(|(v, q)| *v *= q);
         Ok(out)
     }
+}
+
+/// `text` with every control character (Unicode category Cc: line breaks, tabs, NUL, DEL, the
+/// C1 controls) written as its Rust escape (`\n`, `\u{1}`), as [`stfit_fit::short`] does for
+/// sample names.
+fn escape_control(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }
 
 #[cfg(test)]

@@ -398,3 +398,103 @@ fn python_exports_parse_as_python() {
         );
     }
 }
+
+/// The first GGX fit of the example fits with a hostile sample name and data file: hyphens in
+/// runs of three and at the end (XML forbids `--` in a comment), and a data file name with a
+/// line break, a control character and code after it (a hand-edited fits file).
+fn hostile_fit() -> stfit_fit::FitResult {
+    let path = stfit_test_support::project_root().join("fits/example-fits.json");
+    let file = stfit_fit::FitsFile::read(&path).unwrap();
+    let mut fit = file
+        .fits
+        .into_iter()
+        .find(|f| f.model.kind == ModelKind::Ggx)
+        .unwrap();
+    fit.sample = "a---b-->c-".into();
+    fit.data = Some("x---\nimport os\u{1}\r\n// -->".into());
+    fit
+}
+
+/// Free texts of a fit (sample, data file) cannot break a file's syntax: the XML files stay
+/// well-formed and every line of the other files that is not a comment is the target's own
+/// code (no text of the fit's data file outside a comment).
+#[test]
+fn hostile_sample_and_data_names_stay_inside_comments() {
+    let fit = hostile_fit();
+    let opts = stfit_export::radiance::RadianceOptions::default();
+    for t in Target::ALL.into_iter().filter(|&t| t != Target::Radiance) {
+        let e = stfit_export::export_fit(&fit, t, &opts).unwrap();
+        for f in &e.files {
+            let what = format!("{} .{}", t.name(), f.extension);
+            match f.extension {
+                "xml" | "mtlx" => {
+                    roxmltree::Document::parse(&f.text)
+                        .unwrap_or_else(|err| panic!("{what}: {err}\n{}", f.text));
+                }
+                _ => {
+                    let comment = if f.extension == "vrscene" { "//" } else { "#" };
+                    for line in f.text.lines() {
+                        assert!(
+                            line.trim_start().starts_with(comment) || !line.contains("import os"),
+                            "{what}: the fit's data escaped its comment: {line:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A sample named by a number (`2024`) still gives valid Python: its identifier, a Python
+/// variable (Mitsuba 3) and function name (Cycles), does not start with a digit.
+#[test]
+fn python_exports_of_a_sample_named_by_a_number_parse_as_python() {
+    if Command::new("python3").arg("--version").output().is_err() {
+        assert!(!under_ci(), "CI=true but python3 is missing");
+        eprintln!("python_exports_of_a_sample_named_by_a_number: did not run for want of python3");
+        return;
+    }
+    let mut fit = hostile_fit();
+    fit.sample = "2024".into();
+    let dir = CaseDir::new("python-exports-number");
+    let opts = stfit_export::radiance::RadianceOptions::default();
+    for t in [Target::Mitsuba3, Target::Cycles] {
+        let e = stfit_export::export_fit(&fit, t, &opts).unwrap();
+        let py = &e.files.iter().find(|f| f.extension == "py").unwrap().text;
+        let path = dir.file(&format!("{}.py", t.name()), py);
+        let out = Command::new("python3")
+            .args(["-c", "import ast, sys; ast.parse(open(sys.argv[1]).read())"])
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            t.name(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+/// Roughness below what a renderer renders as rough is said: pbrt-v4 scatters alpha < 1e-3 as
+/// a smooth dielectric, Mitsuba 3 raises alpha to 1e-4. Alpha 1e-3 itself (the fits' own
+/// floor) is rough in pbrt, in its single precision too.
+#[test]
+fn renderer_roughness_floors_are_warned() {
+    let warned = |t: Target, alpha: f64, what: &str| {
+        let m = model(ModelKind::Ggx, alpha, Gamma::NotApplicable);
+        let e = targets::export(t, &m, "x").unwrap();
+        e.warnings.iter().any(|w| w.contains(what))
+    };
+    assert!(warned(Target::PbrtV4, 5e-4, "perfectly smooth"));
+    assert!(!warned(Target::PbrtV4, 1e-3, "perfectly smooth"));
+    assert!(!warned(Target::PbrtV4, 0.2, "perfectly smooth"));
+    assert!(warned(Target::Mitsuba3, 5e-5, "renders alpha 0.0001"));
+    assert!(!warned(Target::Mitsuba3, 1e-3, "renders alpha"));
+    // A near-smooth Student-T fit translated below pbrt's threshold.
+    let st = model(ModelKind::StudentT, 1e-3, Gamma::Fixed(10.0));
+    let e = targets::export(Target::PbrtV4, &st, "x").unwrap();
+    let alpha = e.translation.unwrap().params[0].value.sqrt();
+    assert!(alpha < 1e-3, "{alpha}");
+    assert!(e.warnings.iter().any(|w| w.contains("perfectly smooth")));
+}

@@ -18,7 +18,10 @@
 //! warning); Beckmann and Student-T fits are translated by fitting the roughness of appleseed's
 //! GGX glass over the sphere of directions.
 
-use super::{AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet};
+use super::{
+    AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet,
+    xml_comment_text,
+};
 use crate::target::Smith;
 use crate::translate::Reference;
 use crate::{ExportError, ExportModel};
@@ -74,10 +77,10 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
             "appleseed glass_bsdf: GGX only (no mdf choice since appleseed 2.1), alpha = max(0.001, roughness^2), G = 1/(1 + Lambda_i + Lambda_o) (glassbsdf.cpp, microfacethelper.h, microfacet.cpp)",
         ],
     ) {
-        text.push_str(&format!("  {}\n", n.replace("--", "- -")));
+        text.push_str(&format!("  {}\n", xml_comment_text(&n)));
     }
     for w in &warnings {
-        text.push_str(&format!("  warning: {}\n", w.replace("--", "- -")));
+        text.push_str(&format!("  warning: {}\n", xml_comment_text(w)));
     }
     text.push_str("-->\n");
     text.push_str(&format!("<bsdf name=\"{id}\" model=\"glass_bsdf\">\n"));

@@ -8,7 +8,9 @@
 //! `G = smith_g1(wi) smith_g1(wo)` (include/mitsuba/render/microfacet.h; Beckmann's G1 there is
 //! a rational approximation, [`Smith::MitsubaSeparable`]).
 
-use super::{Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet};
+use super::{
+    Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet, xml_comment_text,
+};
 use crate::target::Smith;
 use crate::translate::{Reference, Translation};
 use crate::{ExportError, ExportModel};
@@ -16,6 +18,10 @@ use stfit_core::ndf::AnyNdf;
 
 /// The roughdielectric parameters stfit writes, all defined by Mitsuba 3.
 pub const PARAMETERS: [&str; 4] = ["distribution", "alpha", "int_ior", "ext_ior"];
+
+/// Mitsuba's smallest alpha: `MicrofacetDistribution::configure` (include/mitsuba/render/microfacet.h)
+/// raises alpha to `max(alpha, 1e-4)`.
+pub const ALPHA_MIN: f64 = 1e-4;
 
 fn family(ndf: Family1, eta: f64) -> Microfacet {
     Microfacet {
@@ -25,7 +31,7 @@ fn family(ndf: Family1, eta: f64) -> Microfacet {
         map: super::AlphaMap::Alpha,
         name: "alpha",
         max_param: 10.0,
-        min_alpha: 0.0,
+        min_alpha: ALPHA_MIN,
     }
 }
 
@@ -55,6 +61,11 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
     let mut warnings = Vec::new();
     let (ndf, t) = translation(model, reference, &mut warnings)?;
     let alpha = t.params[0].value;
+    if alpha < ALPHA_MIN {
+        warnings.push(format!(
+            "alpha {alpha:.3e} is below Mitsuba 3's floor: it renders alpha {ALPHA_MIN} (MicrofacetDistribution::configure)"
+        ));
+    }
     let dist = match ndf {
         Family1::Ggx => "ggx",
         Family1::Beckmann => "beckmann",
@@ -68,7 +79,7 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
     );
     let mut xml = String::from("<!--\n");
     for n in &notes {
-        xml.push_str(&format!("  {}\n", n.replace("--", "- -")));
+        xml.push_str(&format!("  {}\n", xml_comment_text(n)));
     }
     xml.push_str("-->\n");
     xml.push_str(&format!(

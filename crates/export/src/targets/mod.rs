@@ -106,6 +106,9 @@ pub const MAX_SAMPLE_CHARS: usize = 100;
 /// character outside `[A-Za-z0-9]` replaced by `_`, such as `frosted_student_t` and
 /// `frosted_student_t_gamma_fixed`; the sample's name is cut to its first
 /// [`MAX_SAMPLE_CHARS`] characters, so that file names stay within every file system's limit.
+/// An identifier that would start with a digit (a sample named `2024 frosted`) starts with `_`
+/// instead (`_2024_frosted_ggx`): it names a Python variable and function in the Mitsuba 3 and
+/// Cycles scripts, where a leading digit is a syntax error.
 pub fn fit_identifier(fit: &FitResult) -> String {
     let suffix = if fit.model.gamma.is_fixed() {
         "-gamma-fixed"
@@ -113,10 +116,15 @@ pub fn fit_identifier(fit: &FitResult) -> String {
         ""
     };
     let sample: String = fit.sample.chars().take(MAX_SAMPLE_CHARS).collect();
-    format!("{sample}-{}{suffix}", fit.model.kind.name())
+    let id: String = format!("{sample}-{}{suffix}", fit.model.kind.name())
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
-        .collect()
+        .collect();
+    if id.starts_with(|c: char| c.is_ascii_digit()) {
+        format!("_{id}")
+    } else {
+        id
+    }
 }
 
 /// Which stored fits to export: all, or those of one sample and/or one model (gamma free or held
@@ -274,6 +282,30 @@ pub fn translate_microfacet(
     } else {
         translate::fit(family, model, reference)
     }
+}
+
+/// `text` made safe inside an XML comment (`<!-- ... -->`): XML 1.0 forbids `--` there, so a
+/// space goes between any two hyphens in a row (a run of three or more included, which one
+/// replacement of `--` by `- -` would leave as `- --`) and after a final hyphen (which would
+/// run into the closing `-->`); characters XML 1.0 does not allow (control characters other
+/// than tab and line breaks, U+FFFE, U+FFFF) become U+FFFD.
+pub fn xml_comment_text(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if c == '-' && out.ends_with('-') {
+            out.push(' ');
+        }
+        let allowed = !c.is_control() || matches!(c, '\t' | '\n' | '\r');
+        out.push(if allowed && c != '\u{FFFE}' && c != '\u{FFFF}' {
+            c
+        } else {
+            '\u{FFFD}'
+        });
+    }
+    if out.ends_with('-') {
+        out.push(' ');
+    }
+    out
 }
 
 /// Comment lines shared by every target: the source fit and the translation.

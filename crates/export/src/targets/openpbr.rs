@@ -22,7 +22,10 @@
 //! (haze 0). The comment also gives the rmse of the written values as the reference graph
 //! renders them (haze in reflection only).
 
-use super::{AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet};
+use super::{
+    AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet,
+    xml_comment_text,
+};
 use crate::target::{CoreMicrofacet, Mixture, Smith, TargetDielectric};
 use crate::translate::{self, Family, Reference, Translation, from_unit_coord, unit_coord};
 use crate::{ExportError, ExportModel};
@@ -151,7 +154,7 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
     }
     let mut text = String::from("<?xml version=\"1.0\"?>\n<!--\n");
     for n in &notes {
-        text.push_str(&format!("  {}\n", n.replace("--", "- -")));
+        text.push_str(&format!("  {}\n", xml_comment_text(n)));
     }
     text.push_str("-->\n<materialx version=\"1.39\">\n");
     text.push_str(&format!(

@@ -14,6 +14,18 @@ use crate::target::Smith;
 use crate::translate::Reference;
 use crate::{ExportError, ExportModel};
 
+/// pbrt-v4's smallest rough alpha: `TrowbridgeReitzDistribution::EffectivelySmooth` (src/pbrt/util/scattering.h)
+/// is `max(alpha_x, alpha_y) < 1e-3f`, and `DielectricBxDF` then scatters as a perfectly smooth
+/// dielectric (a delta lobe), whatever the roughness.
+pub const SMOOTH_BELOW_ALPHA: f32 = 1e-3;
+
+/// Whether pbrt-v4 renders `roughness` (with `remaproughness` true) as a smooth dielectric: its
+/// alpha `sqrt(roughness)`, computed in single precision as pbrt does, is below
+/// [`SMOOTH_BELOW_ALPHA`].
+pub fn renders_smooth(roughness: f64) -> bool {
+    (roughness as f32).sqrt() < SMOOTH_BELOW_ALPHA
+}
+
 /// The dielectric parameters stfit writes, all defined by pbrt-v4.
 pub const PARAMETERS: [&str; 3] = ["eta", "roughness", "remaproughness"];
 
@@ -35,6 +47,12 @@ pub fn export(model: &ExportModel, reference: &Reference) -> Result<Export, Expo
     let mut warnings = Vec::new();
     let t = translate_microfacet(&family(model.eta()), model, reference, &mut warnings)?;
     let roughness = t.params[0].value;
+    if renders_smooth(roughness) {
+        warnings.push(format!(
+            "roughness {roughness:.3e} (alpha {:.3e}) is below pbrt-v4's smallest rough alpha 1e-3: pbrt renders it as a perfectly smooth dielectric (TrowbridgeReitzDistribution::EffectivelySmooth)",
+            roughness.sqrt()
+        ));
+    }
     let mut text = String::new();
     for n in provenance(
         model,
