@@ -232,12 +232,15 @@ fn num(v: f64) -> String {
     }
 }
 
-/// Text safe inside an XML comment or element.
+/// Text safe inside an XML comment or element: `&`, `<` and `>` as entities, hyphens kept
+/// apart and the characters XML 1.0 does not allow as U+FFFD
+/// ([`crate::targets::xml_comment_text`]).
 fn xml_text(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace("--", "- -")
+    crate::targets::xml_comment_text(
+        &s.replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;"),
+    )
 }
 
 /// How the matrices were computed and how exact they are, for the file comment.
