@@ -260,11 +260,13 @@ pub fn evaluate<F: Family>(
     })
 }
 
-/// Fits the family to the fitted model over the sphere of directions.
+/// Fits the family to the fitted model over the sphere of directions, adding a warning to
+/// `warnings` for each parameter that ends on a bound of its range.
 pub fn fit<F: Family>(
     family: &F,
     model: &ExportModel,
     reference: &Reference,
+    warnings: &mut Vec<String>,
 ) -> Result<Translation, ExportError> {
     let cost = |x: &[f64]| {
         let p = family.params_of(x);
@@ -290,6 +292,15 @@ pub fn fit<F: Family>(
         ExportError::Optimizer(last_err.unwrap_or_else(|| "no starting point".into()))
     })?;
     let p = family.params_of(&best.x);
+    for (k, name) in family.names().into_iter().enumerate() {
+        if at_search_bound(family, &best.x, k) {
+            warnings.push(format!(
+                "{name} {:.6} ended on a bound of its range: the renderer's BSDF nearest the \
+                 fitted one may need a value beyond it; the translation's error is as stated",
+                p[k]
+            ));
+        }
+    }
     let bsdf = family.build(&p)?;
     let rmse = reference.rmse(&bsdf);
     Ok(Translation {
@@ -298,6 +309,18 @@ pub fn fit<F: Family>(
         rmse_measured_grid: grid_rmse(model, &bsdf, &measured_grid())?,
         exact_ndf: false,
         iterations,
+    })
+}
+
+/// Whether parameter `k` at search coordinates `x` is held on a bound of its range: a step of
+/// the coordinate outward, either way, leaves the parameter where it is (the families' maps
+/// clamp their coordinates to the range searched).
+fn at_search_bound<F: Family>(family: &F, x: &[f64], k: usize) -> bool {
+    let at = family.params_of(x)[k];
+    [-1.0, 1.0].into_iter().any(|d| {
+        let mut y = x.to_vec();
+        y[k] += d * 1e-6 * (1.0 + x[k].abs());
+        family.params_of(&y)[k] == at
     })
 }
 

@@ -65,7 +65,9 @@ fn check(data: &Dataset) {
             max_param: 10.0,
             min_alpha: 0.0,
         };
-        let t = fit(&ggx, &model, &reference).unwrap();
+        let mut warnings = Vec::new();
+        let t = fit(&ggx, &model, &reference, &mut warnings).unwrap();
+        assert!(warnings.is_empty(), "{warnings:?}");
         let alpha = t.params[0].value;
         // The renderer gets alpha only; the calibration scale is the Student-T fit's.
         let translated = Model {
@@ -76,7 +78,6 @@ fn check(data: &Dataset) {
         };
         let (angles, measured) = points(sample);
         let r = rmse(&translated.predict(&angles).unwrap(), &measured);
-        let mut warnings = Vec::new();
         let v = vray_translation(&model, &reference, &mut warnings).unwrap();
         let p: Vec<f64> = v.params.iter().map(|p| p.value).collect();
         let family = VRayGlass {

@@ -20,7 +20,7 @@
 
 use super::{
     AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet,
-    xml_comment_text,
+    warning_notes, xml_comment_text,
 };
 use crate::target::Smith;
 use crate::translate::Reference;
@@ -79,8 +79,8 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
     ) {
         text.push_str(&format!("  {}\n", xml_comment_text(&n)));
     }
-    for w in &warnings {
-        text.push_str(&format!("  warning: {}\n", xml_comment_text(w)));
+    for w in warning_notes(&warnings) {
+        text.push_str(&format!("  {}\n", xml_comment_text(&w)));
     }
     text.push_str("-->\n");
     text.push_str(&format!("<bsdf name=\"{id}\" model=\"glass_bsdf\">\n"));

@@ -16,7 +16,10 @@
 //!   Weight 1 every other component is weighted by `1 - 1 = 0`. So a white Principled BSDF with
 //!   Transmission Weight 1 is the same GGX glass as the Glass node with GGX.
 
-use super::{AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet};
+use super::{
+    AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet,
+    warning_notes,
+};
 use crate::target::Smith;
 use crate::translate::{Reference, Translation};
 use crate::{ExportError, ExportModel};
@@ -77,15 +80,17 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         (Family1::Ggx, false) => "GGX",
         (Family1::Beckmann, _) => "BECKMANN",
     };
-    let mut text = String::new();
-    for n in provenance(
+    let mut notes = provenance(
         model,
         Some(&glass),
         &[
             "Cycles Glass BSDF: alpha = Roughness^2 (intern/cycles/kernel/svm/closure.h)",
             "Cycles Principled BSDF, white with Transmission Weight 1 and white Specular Tint: the same GGX glass closure, real dielectric Fresnel (closure.h, bsdf_microfacet.h)",
         ],
-    ) {
+    );
+    notes.extend(warning_notes(&warnings));
+    let mut text = String::new();
+    for n in notes {
         text.push_str(&format!("# {n}\n"));
     }
     text.push_str(&format!(

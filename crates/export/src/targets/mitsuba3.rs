@@ -9,7 +9,8 @@
 //! a rational approximation, [`Smith::MitsubaSeparable`]).
 
 use super::{
-    Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet, xml_comment_text,
+    Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet, warning_notes,
+    xml_comment_text,
 };
 use crate::target::Smith;
 use crate::translate::{Reference, Translation};
@@ -70,13 +71,14 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         Family1::Ggx => "ggx",
         Family1::Beckmann => "beckmann",
     };
-    let notes = provenance(
+    let mut notes = provenance(
         model,
         Some(&t),
         &[
             "Mitsuba 3 roughdielectric: alpha used as is (no remapping), separable Smith G (src/bsdfs/roughdielectric.cpp)",
         ],
     );
+    notes.extend(warning_notes(&warnings));
     let mut xml = String::from("<!--\n");
     for n in &notes {
         xml.push_str(&format!("  {}\n", xml_comment_text(n)));

@@ -280,7 +280,7 @@ pub fn translate_microfacet(
         }
         translate::evaluate(family, model, reference, &[q])
     } else {
-        translate::fit(family, model, reference)
+        translate::fit(family, model, reference, warnings)
     }
 }
 
@@ -306,6 +306,12 @@ pub fn xml_comment_text(text: &str) -> String {
         out.push(' ');
     }
     out
+}
+
+/// Comment lines of an export's warnings, `warning: ...`, for the file: what the user is told
+/// on stderr stays with the file.
+pub fn warning_notes(warnings: &[String]) -> Vec<String> {
+    warnings.iter().map(|w| format!("warning: {w}")).collect()
 }
 
 /// Comment lines shared by every target: the source fit and the translation.

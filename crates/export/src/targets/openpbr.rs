@@ -19,12 +19,14 @@
 //! The mixture is fitted, per the specification (haze in both lobes), to the fitted BSDF over
 //! the sphere of directions; the haze is written only where it is meaningful, that is where it
 //! lowers the rmse by at least [`MEANINGFUL_GAIN`] relative to the best single GGX lobe
-//! (haze 0). The comment also gives the rmse of the written values as the reference graph
-//! renders them (haze in reflection only).
+//! (haze 0) both as the specification reads it and as the reference graph renders it (haze in
+//! reflection only): a haze that only the specification's reading rewards would render worse
+//! than the single lobe wherever the graph is compiled, and released MaterialX (1.39) declares
+//! OpenPBR 1.1, which has no `specular_haze` and ignores it. The comment gives both rmse.
 
 use super::{
     AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet,
-    xml_comment_text,
+    warning_notes, xml_comment_text,
 };
 use crate::target::{CoreMicrofacet, Mixture, Smith, TargetDielectric};
 use crate::translate::{self, Family, Reference, Translation, from_unit_coord, unit_coord};
@@ -117,9 +119,19 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         start_roughness: one.params[0].value,
         haze_transmits: true,
     };
-    let haze = translate::fit(&spec, model, reference)?;
-    let meaningful = haze.rmse < (1.0 - MEANINGFUL_GAIN) * one.rmse;
+    let mut haze_warnings = Vec::new();
+    let haze = translate::fit(&spec, model, reference, &mut haze_warnings)?;
+    // The mixture's rmse as the reference graph renders the fitted values.
+    let graph = Haze {
+        haze_transmits: false,
+        ..spec
+    };
+    let haze_values: Vec<f64> = haze.params.iter().map(|p| p.value).collect();
+    let graph_rmse = reference.rmse(&graph.build(&haze_values)?);
+    let gains = |rmse: f64| rmse < (1.0 - MEANINGFUL_GAIN) * one.rmse;
+    let meaningful = gains(haze.rmse) && gains(graph_rmse);
     let t: Translation = if meaningful {
+        warnings.extend(haze_warnings);
         haze.clone()
     } else {
         one.clone()
@@ -132,26 +144,17 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         ],
     );
     notes.push(format!(
-        "single GGX lobe: rmse {:.4}; two-lobe haze mixture: rmse {:.4} ({}).",
+        "single GGX lobe: rmse {:.4}; two-lobe haze mixture: rmse {:.4} as the specification reads it, {:.4} as the reference MaterialX graph (reference/open_pbr_surface.mtlx) renders it, with the haze in reflection only ({}).",
         one.rmse,
         haze.rmse,
+        graph_rmse,
         if meaningful {
             "haze written"
         } else {
-            "gain below 5%: haze not meaningful, not written"
+            "gain below 5% in either: haze not written"
         }
     ));
-    if meaningful {
-        let graph = Haze {
-            haze_transmits: false,
-            ..spec
-        };
-        let p: Vec<f64> = haze.params.iter().map(|p| p.value).collect();
-        notes.push(format!(
-            "the reference MaterialX graph (reference/open_pbr_surface.mtlx) applies the haze to reflection only; rendered so, these values have rmse {:.4}.",
-            reference.rmse(&graph.build(&p)?)
-        ));
-    }
+    notes.extend(warning_notes(&warnings));
     let mut text = String::from("<?xml version=\"1.0\"?>\n<!--\n");
     for n in &notes {
         text.push_str(&format!("  {}\n", xml_comment_text(n)));

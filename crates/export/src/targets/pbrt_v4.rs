@@ -9,7 +9,10 @@
 //! Walter et al. 2007 with GGX only and `G = 1 / (1 + Lambda(wo) + Lambda(wi))` for reflection
 //! and transmission ([`Smith::LambdaSum`]).
 
-use super::{AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet};
+use super::{
+    AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet,
+    warning_notes,
+};
 use crate::target::Smith;
 use crate::translate::Reference;
 use crate::{ExportError, ExportModel};
@@ -53,15 +56,17 @@ pub fn export(model: &ExportModel, reference: &Reference) -> Result<Export, Expo
             roughness.sqrt()
         ));
     }
-    let mut text = String::new();
-    for n in provenance(
+    let mut notes = provenance(
         model,
         Some(&t),
         &[&format!(
             "pbrt-v4 dielectric: remaproughness true (its default), alpha = sqrt(roughness) = {}",
             roughness.sqrt()
         )],
-    ) {
+    );
+    notes.extend(warning_notes(&warnings));
+    let mut text = String::new();
+    for n in notes {
         text.push_str(&format!("# {n}\n"));
     }
     text.push_str(&format!(

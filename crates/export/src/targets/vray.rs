@@ -23,7 +23,7 @@
 //! sphere of directions (gtr_gamma searched in [0.1, 10], 10 being V-Ray's interface maximum);
 //! a GGX fit maps exactly to `gtr_gamma` 2.
 
-use super::{Export, ExportFile, provenance};
+use super::{Export, ExportFile, provenance, warning_notes};
 use crate::gtr::VRayGtr;
 use crate::target::TargetDielectric;
 use crate::translate::{self, Family, Reference, Translation, from_log_coord, log_coord};
@@ -136,11 +136,11 @@ pub fn translation(
                 glossiness_of_alpha(alpha * (gamma - 1.0).sqrt()),
                 gamma.max(GAMMA_RANGE.0),
             );
-            translate::fit(&family([near, plain]), model, reference)
+            translate::fit(&family([near, plain]), model, reference, warnings)
         }
         AnyNdf::Beckmann(_) => {
             let near = (glossiness_of_alpha(3.0 * alpha), GAMMA_RANGE.1);
-            translate::fit(&family([near, plain]), model, reference)
+            translate::fit(&family([near, plain]), model, reference, warnings)
         }
     }
 }
@@ -181,8 +181,8 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
     for n in &notes {
         text.push_str(&format!("// {n}\n"));
     }
-    for w in &warnings {
-        text.push_str(&format!("// warning: {w}\n"));
+    for w in warning_notes(&warnings) {
+        text.push_str(&format!("// {w}\n"));
     }
     let eta = model.eta();
     text.push_str(&format!(
