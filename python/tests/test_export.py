@@ -14,7 +14,13 @@ RENDERERS = ["mitsuba3", "pbrt-v4", "cycles", "appleseed", "openpbr", "vray"]
 @pytest.mark.parametrize("target", RENDERERS)
 def test_text_equals_the_cli_stdout(cli, at_repo, target):
     expected = cli("export", FITS, "--to", target, "--sample", "frosted")
-    assert stfit.export(FITS, to=target, sample="frosted") == expected
+    if target == "vray":
+        # Frosted Beckmann's gtr_gamma ends on its bound, said as the CLI says it on stderr.
+        with pytest.warns(UserWarning, match="frosted_beckmann: gtr_gamma .* ended on a bound"):
+            text = stfit.export(FITS, to=target, sample="frosted")
+    else:
+        text = stfit.export(FITS, to=target, sample="frosted")
+    assert text == expected
 
 
 def test_fit_results_export_like_their_file(cli, at_repo):
