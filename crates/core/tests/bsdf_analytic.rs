@@ -124,6 +124,30 @@ fn grazing_specular_reflection_ignores_the_rounding_of_the_norms() {
     }
 }
 
+/// Transmission whose refracted direction leaves the facet at grazing, just short of total
+/// internal reflection, is reciprocal: from the side that can reflect totally, Fresnel must
+/// not decide by the rounding of `wi.h` (it gave 0 one way and the full value the other).
+/// Light from the air onto an index of 0.01 (critical angle 0.57 degrees) and onto 1/1.5.
+#[test]
+fn transmission_at_the_critical_angle_is_reciprocal() {
+    for (eta, alpha) in [(0.01, 1e-8), (0.01, 0.3), (1.0 / 1.5, 0.3)] {
+        // wi 1e-9 inside the critical angle of the macro-normal facet; wo grazing below.
+        let s = eta * (1.0 - 1e-9);
+        let wi = Vec3::new(-s, 0.0, ((1.0 - s) * (1.0 + s)).sqrt());
+        let wo = Vec3::new((1.0f64 - 1e-16).sqrt(), 0.0, -1e-8);
+        for ndf in ndfs(alpha) {
+            for masking in [Masking::Separable, Masking::Correlated] {
+                let glass = RoughDielectric::new(ndf, eta, masking).unwrap();
+                let f_io = glass.f_cos(wi, wo) / wo.z.abs() / (eta * eta);
+                let f_oi = glass.f_cos(wo, wi) / wi.z.abs();
+                let what = format!("{glass:?} {wi:?} {wo:?}");
+                assert!(f_oi > 0.0, "{what}");
+                assert_close(f_io, f_oi, 1e-6, &what);
+            }
+        }
+    }
+}
+
 #[test]
 fn reflection_bsdfs_are_symmetric() {
     let mut rng = Pcg64::seed_from_u64(4);

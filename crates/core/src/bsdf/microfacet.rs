@@ -371,6 +371,27 @@ impl HalfVector {
         lobe * j_num / (f_den * j_den)
     }
 
+    /// The unpolarised Fresnel reflectance `F(wi.h)` of the facet `h` of a dielectric interface
+    /// of index `eta` below (1 above). For reflection from `wi.h` alone. For refraction from
+    /// `wi.h` and `wo.h`, the incident and transmitted cosines of the pair (the Fresnel formula
+    /// is the same read from either end): Snell's law on the rounded `wi.h` would decide total
+    /// internal reflection by rounding where `wo` leaves the facet at grazing, 0 one way and
+    /// the full value the other (`f(wi, wo) / n_o^2 = f(wo, wi) / n_i^2` failed there).
+    #[inline]
+    pub fn dielectric_fresnel(&self, eta: f64) -> f64 {
+        if self.reflect {
+            let (num, den) = reflectance_fraction(self.cos_ih, eta, 1.0 / eta);
+            return num / den;
+        }
+        let eta_t = if self.cos_ih >= 0.0 { eta } else { 1.0 / eta };
+        let (num, den) = fresnel_dielectric_fraction(
+            self.cos_ih.abs().min(1.0),
+            self.cos_oh.abs().min(1.0),
+            eta_t,
+        );
+        num / den
+    }
+
     /// The Fresnel weight of the lobe: `F` for reflection, `1 - F` for refraction, given the
     /// reflectance `f = F(wi.h)`.
     #[inline]
