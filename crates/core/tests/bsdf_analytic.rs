@@ -90,6 +90,64 @@ fn rough_dielectric_with_precomputed_terms_is_f_cos() {
     }
 }
 
+/// Grazing specular reflection is `F G D(h) / (4 |wi.z|)` for directions that are unit vectors
+/// to their rounding: the norms' last bits must not tilt the ratio of `wi.h` and `wo.h`, both
+/// about `|wi.z|` there (it came out 0.29 at `|z| = 1e-8`, on either side of the surface).
+#[test]
+fn grazing_specular_reflection_ignores_the_rounding_of_the_norms() {
+    let (x, z) = (1.0 - f64::EPSILON / 2.0, 1e-8);
+    for side in [1.0, -1.0] {
+        // Each within 1.2e-16 of unit length; h is z but for that rounding.
+        let (wi, wo) = (Vec3::new(-x, 0.0, side * z), Vec3::new(1.0, 0.0, side * z));
+        for ndf in ndfs(0.3) {
+            let d = stfit_core::ndf::Ndf::d(&ndf, Vec3::z());
+            let lambda =
+                |w: Vec3| stfit_core::ndf::Ndf::lambda(&ndf, Vec3::new(w.x, w.y, w.z.abs()));
+            let (li, lo) = (lambda(wi), lambda(wo));
+            for masking in [Masking::Separable, Masking::Correlated] {
+                let g = match masking {
+                    Masking::Separable => 1.0 / ((1.0 + li) * (1.0 + lo)),
+                    Masking::Correlated => 1.0 / (1.0 + li + lo),
+                };
+                let glass = RoughDielectric::new(ndf, 1.5, masking).unwrap();
+                let f = fresnel_dielectric(side * z, 1.5);
+                let what = format!("{glass:?} {wi:?} {wo:?}");
+                assert_close(glass.f_cos(wi, wo), f * g * d / (4.0 * z), 1e-6, &what);
+                if side > 0.0 {
+                    let metal = RoughConductor::new(ndf, 0.2, 3.6, masking).unwrap();
+                    let f = fresnel_conductor(z, Complex::new(0.2, 3.6));
+                    let what = format!("{metal:?} {wi:?} {wo:?}");
+                    assert_close(metal.f_cos(wi, wo), f * g * d / (4.0 * z), 1e-6, &what);
+                }
+            }
+        }
+    }
+}
+
+/// Transmission whose refracted direction leaves the facet at grazing, just short of total
+/// internal reflection, is reciprocal: from the side that can reflect totally, Fresnel must
+/// not decide by the rounding of `wi.h` (it gave 0 one way and the full value the other).
+/// Light from the air onto an index of 0.01 (critical angle 0.57 degrees) and onto 1/1.5.
+#[test]
+fn transmission_at_the_critical_angle_is_reciprocal() {
+    for (eta, alpha) in [(0.01, 1e-8), (0.01, 0.3), (1.0 / 1.5, 0.3)] {
+        // wi 1e-9 inside the critical angle of the macro-normal facet; wo grazing below.
+        let s = eta * (1.0 - 1e-9);
+        let wi = Vec3::new(-s, 0.0, ((1.0 - s) * (1.0 + s)).sqrt());
+        let wo = Vec3::new((1.0f64 - 1e-16).sqrt(), 0.0, -1e-8);
+        for ndf in ndfs(alpha) {
+            for masking in [Masking::Separable, Masking::Correlated] {
+                let glass = RoughDielectric::new(ndf, eta, masking).unwrap();
+                let f_io = glass.f_cos(wi, wo) / wo.z.abs() / (eta * eta);
+                let f_oi = glass.f_cos(wo, wi) / wi.z.abs();
+                let what = format!("{glass:?} {wi:?} {wo:?}");
+                assert!(f_oi > 0.0, "{what}");
+                assert_close(f_io, f_oi, 1e-6, &what);
+            }
+        }
+    }
+}
+
 #[test]
 fn reflection_bsdfs_are_symmetric() {
     let mut rng = Pcg64::seed_from_u64(4);

@@ -9,7 +9,7 @@
 //! masking-shadowing `G` ([`RendererMicrofacet`]; each source is cited at its variant).
 
 use stfit_core::Vec3;
-use stfit_core::bsdf::{HalfVector, fresnel_dielectric};
+use stfit_core::bsdf::HalfVector;
 use stfit_core::error::check_eta;
 use stfit_core::ndf::{AnyNdf, Ndf};
 
@@ -165,7 +165,7 @@ impl<M: RendererMicrofacet> TargetDielectric<M> {
         if d == 0.0 {
             return 0.0;
         }
-        let f = fresnel_dielectric(hv.cos_ih, self.eta);
+        let f = hv.dielectric_fresnel(self.eta);
         let v = hv.walter_factor(wi.z, f) * self.micro.g(wi, wo, hv.h, hv.reflect) * d;
         if v.is_finite() { v } else { 0.0 }
     }

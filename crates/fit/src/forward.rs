@@ -24,7 +24,7 @@
 use std::collections::HashMap;
 use std::sync::OnceLock;
 
-use stfit_core::bsdf::{HalfVector, Masking, fresnel_dielectric};
+use stfit_core::bsdf::{HalfVector, Masking};
 use stfit_core::error::check_eta;
 use stfit_core::ndf::{AnyNdf, Ndf};
 use stfit_core::walk::{
@@ -200,7 +200,7 @@ impl Forward {
             .enumerate()
             .map(|(j, &(wi, wo))| match HalfVector::new(wi, wo, eta) {
                 Some(hv) => {
-                    let f = fresnel_dielectric(hv.cos_ih, eta);
+                    let f = hv.dielectric_fresnel(eta);
                     PointTerms {
                         h: hv.h,
                         k: hv.walter_factor(wi.z, f) * self.q(j, eta) / wo.z.abs(),

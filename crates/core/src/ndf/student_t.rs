@@ -497,7 +497,15 @@ impl Ndf for StudentT {
         }
         // ln of the rounded 1 + tan^2/((g-1) alpha^2) costs a relative g * 1e-16 in D: as
         // good as log1p, at a fraction of its time, for gamma <= 1e3 (`Self::ln_1p`).
-        self.d_scale * (-2.0 * u2.ln() - self.gamma * self.ln_1p(x)).exp()
+        // Below wm.z = 7.5e-155 `1 / u2` overflows and `u2` loses bits as a subnormal, so
+        // ln(u2) is taken as 2 ln(wm.z), and ln(1 + x) as ln(x) where x is that large.
+        let ln_u2 = 2.0 * wm.z.ln();
+        let ln_1p_x = if x < 1e300 {
+            self.ln_1p(x)
+        } else {
+            (sin2 * self.inv_a2g1).ln() - ln_u2
+        };
+        self.d_scale * (-2.0 * ln_u2 - self.gamma * ln_1p_x).exp()
     }
 
     /// Closed form with the regularised incomplete beta function (theory section 3).
@@ -601,6 +609,35 @@ mod tests {
                     (d - r).abs() <= 1e-13 * r || (d < 1e-290 && r < 1e-290),
                     "gamma {gamma}, theta {theta}: D {d}, log form {r}"
                 );
+            }
+        }
+    }
+
+    /// Near the horizon, down to the normal range of `cos^2` (1.5e-162), D keeps its value
+    /// where `1 / cos^2` overflows (below 7.5e-155): it was 0 there, for gamma = 2 unlike GGX
+    /// and for gamma < 2 where it diverges. There `tan^2` dwarfs `alpha^2 (g-1)`, so
+    /// `D = (g-1)^g alpha^(2g-2) cos^(2g-4) / (pi sin^(2g))` to rounding.
+    #[test]
+    fn d_near_the_horizon_is_its_power_law() {
+        use crate::ndf::Ggx;
+        let ggx = Ggx::new(0.3).unwrap();
+        for gamma in [1.6, 1.9, 2.0, 2.5, 3.0, 17.5] {
+            let st = StudentT::new(0.3, gamma).unwrap();
+            for z in [1e-150f64, 8e-155, 7e-155, 1e-158, 1e-161, 1.6e-162] {
+                let s = (1.0 - z * z).sqrt();
+                let wm = Vec3::new(0.6 * s, 0.8 * s, z);
+                let ln_d = gamma * (gamma - 1.0).ln()
+                    + (2.0 * gamma - 2.0) * 0.3f64.ln()
+                    + (2.0 * gamma - 4.0) * z.ln()
+                    - PI.ln();
+                let (d, r) = (st.d(wm), ln_d.exp());
+                assert!(
+                    (d - r).abs() <= 1e-12 * r || (r < 1e-300 && d < 1e-300),
+                    "gamma {gamma}, z {z}: D {d}, power law {r}"
+                );
+                if gamma == 2.0 {
+                    assert!((d / ggx.d(wm) - 1.0).abs() < 1e-13, "z {z}: {d} vs GGX");
+                }
             }
         }
     }
