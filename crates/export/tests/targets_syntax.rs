@@ -383,19 +383,7 @@ fn python_exports_parse_as_python() {
     let dir = CaseDir::new("python-exports");
     for t in [Target::Mitsuba3, Target::Cycles] {
         let e = targets::export(t, &student_t(), "st").unwrap();
-        let py = &e.files.iter().find(|f| f.extension == "py").unwrap().text;
-        let path = dir.file(&format!("{}.py", t.name()), py);
-        let out = Command::new("python3")
-            .args(["-c", "import ast, sys; ast.parse(open(sys.argv[1]).read())"])
-            .arg(&path)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}: {}",
-            t.name(),
-            String::from_utf8_lossy(&out.stderr)
-        );
+        assert_parses_as_python(&dir, t, &e);
     }
 }
 
@@ -403,10 +391,7 @@ fn python_exports_parse_as_python() {
 /// runs of three and at the end (XML forbids `--` in a comment), and a data file name with a
 /// line break, a control character and code after it (a hand-edited fits file).
 fn hostile_fit() -> stfit_fit::FitResult {
-    let path = stfit_test_support::project_root().join("fits/example-fits.json");
-    let file = stfit_fit::FitsFile::read(&path).unwrap();
-    let mut fit = file
-        .fits
+    let mut fit = example_fits()
         .into_iter()
         .find(|f| f.model.kind == ModelKind::Ggx)
         .unwrap();
@@ -464,19 +449,7 @@ fn python_exports_of_a_sample_named_by_a_number_parse_as_python() {
     let opts = stfit_export::radiance::RadianceOptions::default();
     for t in [Target::Mitsuba3, Target::Cycles] {
         let e = stfit_export::export_fit(&fit, t, &opts).unwrap();
-        let py = &e.files.iter().find(|f| f.extension == "py").unwrap().text;
-        let path = dir.file(&format!("{}.py", t.name()), py);
-        let out = Command::new("python3")
-            .args(["-c", "import ast, sys; ast.parse(open(sys.argv[1]).read())"])
-            .arg(&path)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}: {}",
-            t.name(),
-            String::from_utf8_lossy(&out.stderr)
-        );
+        assert_parses_as_python(&dir, t, &e);
     }
 }
 
@@ -543,6 +516,24 @@ fn openpbr_haze_is_written_only_where_the_reference_graph_gains_too() {
     assert!(!text.contains("\"specular_haze\""), "{text}");
     assert!(text.contains("haze not written"), "{text}");
     assert_eq!(e.translation.unwrap().params.len(), 1);
+}
+
+/// Asserts that the `.py` file of export `e` to `t` parses as Python (`python3`'s `ast`),
+/// written into `dir`.
+fn assert_parses_as_python(dir: &CaseDir, t: Target, e: &targets::Export) {
+    let py = &e.files.iter().find(|f| f.extension == "py").unwrap().text;
+    let path = dir.file(&format!("{}.py", t.name()), py);
+    let out = Command::new("python3")
+        .args(["-c", "import ast, sys; ast.parse(open(sys.argv[1]).read())"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}: {}",
+        t.name(),
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 /// The fits of `fits/example-fits.json`.
