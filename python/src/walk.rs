@@ -11,7 +11,7 @@ use stfit_core::walk::{
     eval_pairs,
 };
 
-use crate::arrays::{Dirs, Pairing, check_unit, values};
+use crate::arrays::{Dirs, Pairing, checked_copy, values};
 use crate::errors::{arg_error, value_error};
 use crate::ints;
 use crate::ndf::{any_ndf, ndf_object};
@@ -103,7 +103,7 @@ impl PyMicrosurface {
         let walks = walks_arg(walks)?;
         let (surface, orders) = (self.surface, self.orders);
         let a = py.detach(|| {
-            check_unit(flat, "wi")?;
+            let flat = &checked_copy(flat, "wi")?;
             let estimator = surface.estimator(orders).map_err(value_error)?;
             Ok::<_, PyErr>(estimator.albedo(crate::arrays::dir(flat, 0), walks, seed))
         })?;
@@ -130,8 +130,7 @@ impl PyMicrosurface {
         let walks = walks_arg(walks)?;
         let (surface, orders) = (self.surface, self.orders);
         let est = py.detach(|| {
-            check_unit(a, "wi")?;
-            check_unit(b, "wo")?;
+            let (a, b) = (&checked_copy(a, "wi")?, &checked_copy(b, "wo")?);
             let estimator = surface.estimator(orders).map_err(value_error)?;
             let pairs: Vec<_> = (0..pairing.n).map(|k| pairing.pair(a, b, k)).collect();
             Ok::<_, PyErr>(eval_pairs(estimator.as_ref(), &pairs, walks, seed))

@@ -6,7 +6,10 @@ or float dtype (booleans, complex numbers and text raise ``ValueError``, not con
 come back with the leading shape, or as a float for a single direction of shape ``(3,)``. A
 direction with a coordinate that is not finite, whose norm differs from 1 by more than 1e-6, or
 whose z is subnormal (nonzero and below 2.2e-308 in magnitude, where 1 / |z| overflows; 0 is the
-horizon) raises ``ValueError`` naming the argument and the row.
+horizon) raises ``ValueError`` naming the argument and the row. A call checks and computes on
+its own copy of the directions, made once with the GIL released: another thread writing into
+the array meanwhile changes what the call may see, but never gets an unchecked direction into
+it (no panic, no NaN).
 """
 
 import os
