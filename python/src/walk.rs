@@ -4,6 +4,7 @@
 
 use pyo3::prelude::*;
 use stfit_core::ScatteringOrders;
+use stfit_core::error::show;
 use stfit_core::ndf::AnyNdf;
 use stfit_core::surface::{NdfChoice, NdfFamily, Surface, SurfaceOptions};
 use stfit_core::walk::{
@@ -87,6 +88,7 @@ impl PyMicrosurface {
 
     /// Fractions of the flux arriving from the unit direction `wi` that leave on its side
     /// (reflectance) and on the other (transmittance), from `walks` random walks (in [1, 1e9]).
+    /// A `wi` on the horizon (z = 0), from which no flux arrives, is a `ValueError`.
     #[pyo3(signature = (wi, walks = DEFAULT_ALBEDO_WALKS, seed = 1))]
     fn albedo(
         &self,
@@ -104,8 +106,19 @@ impl PyMicrosurface {
         let (surface, orders) = (self.surface, self.orders);
         let a = py.detach(|| {
             let flat = &checked_copy(flat, "wi")?;
+            let w = crate::arrays::dir(flat, 0);
+            if w.z == 0.0 {
+                // As `stfit albedo` refuses --theta-i 90: the walks would return 0 and 0.
+                return Err(value_error(format!(
+                    "wi = [{}, {}, {}]: on the horizon (z = 0): no flux arrives from it, so its \
+                     albedo is undefined",
+                    show(w.x),
+                    show(w.y),
+                    show(w.z)
+                )));
+            }
             let estimator = surface.estimator(orders).map_err(value_error)?;
-            Ok::<_, PyErr>(estimator.albedo(crate::arrays::dir(flat, 0), walks, seed))
+            Ok::<_, PyErr>(estimator.albedo(w, walks, seed))
         })?;
         Ok(Albedo(a))
     }

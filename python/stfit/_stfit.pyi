@@ -155,7 +155,8 @@ class Microsurface:
     def albedo(self, wi: ArrayLike, walks: int = 1_000_000, seed: int = 1) -> Albedo:
         """The albedo for light from the single unit direction ``wi`` (shape (3,)), from
         ``walks`` walks (in [1, 1e9], else ValueError); parallel, identical for a seed whatever
-        the number of threads."""
+        the number of threads. A ``wi`` on the horizon (z = 0; ``stfit albedo --theta-i 90``),
+        from which no flux arrives, raises ValueError."""
     def eval(
         self, wi: ArrayLike, wo: ArrayLike, walks: int = 100_000, seed: int = 1
     ) -> tuple[FloatOrArray, FloatOrArray]:
