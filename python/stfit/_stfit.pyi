@@ -264,7 +264,7 @@ def fit(
     """Fits ``model`` ('beckmann', 'ggx', 'student-t' or 'all': the four models Beckmann, GGX,
     Student-T with gamma = 3 and with gamma free) to every sample, with the command line's
     options and defaults: ``eta`` 1.51 (a number or 'free'), ``scale`` 'free' (or a number to
-    hold it at, at least 2.2e-308), ``log_floor`` of ``loss`` 'log' in [1e-12, 1] (default
+    hold it at, at least 2.2e-308; a bool for either raises ValueError), ``log_floor`` of ``loss`` 'log' in [1e-12, 1] (default
     1e-3), ``orders`` 'single' or 'all' (the random walk's orders >= 2 added, ``walks`` per
     incidence, in [2, 1e9], default 20,000, from ``seed``, default 1; ``multiple_term``
     'surrogate', the default, interpolates that term between a few walk sets while searching,

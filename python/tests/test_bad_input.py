@@ -462,3 +462,12 @@ def test_albedo_refuses_a_direction_on_the_horizon(wi):
         _walk().albedo(wi, walks=10)
     a = _walk().albedo([0.6, 0.0, 0.8], walks=100)
     assert a.reflectance + a.transmittance > 0.99
+
+
+@pytest.mark.parametrize("name", ["eta", "scale"])
+@pytest.mark.parametrize("value", [True, False, np.bool_(True)])
+def test_fit_parameters_refuse_booleans(name, value):
+    """eta and scale take a number or 'free': a bool is a ValueError naming the parameter,
+    where scale=True (meant as 'fit the scale') held the scale at 1."""
+    with pytest.raises(ValueError, match=rf"^{name}: expected a number or 'free', got a bool"):
+        stfit.fit(str(EXAMPLE), model="ggx", sample="ground", **{name: value})
