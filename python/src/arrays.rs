@@ -11,7 +11,7 @@
 //! reads it once ([`checked_copy`]): it checks and computes on its own copy, and a direction
 //! changed during the call cannot pass the check and then be evaluated as NaN.
 
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat};
@@ -48,6 +48,13 @@ impl<'py> Dirs<'py> {
                 "{name}: not an array of numbers (an integer or float dtype), got dtype {dtype}"
             )));
         }
+        // The shape before the conversion, which makes a 0-d array 1-d.
+        let full: Vec<usize> = array.getattr("shape")?.extract()?;
+        if full.last() != Some(&3) {
+            return Err(PyValueError::new_err(format!(
+                "{name}: expected directions of shape (..., 3), got shape {full:?}"
+            )));
+        }
         let kwargs = PyDict::new(py);
         kwargs.set_item("dtype", np.getattr("float64")?)?;
         let converted = np
@@ -55,12 +62,6 @@ impl<'py> Dirs<'py> {
             .call((array,), Some(&kwargs))
             .map_err(not_numbers)?;
         let array: PyReadonlyArrayDyn<'py, f64> = converted.extract()?;
-        let full = array.shape().to_vec();
-        if full.last() != Some(&3) {
-            return Err(PyValueError::new_err(format!(
-                "{name}: expected directions of shape (..., 3), got shape {full:?}"
-            )));
-        }
         let shape = full[..full.len() - 1].to_vec();
         Ok(Self { array, shape })
     }

@@ -471,3 +471,11 @@ def test_fit_parameters_refuse_booleans(name, value):
     where scale=True (meant as 'fit the scale') held the scale at 1."""
     with pytest.raises(ValueError, match=rf"^{name}: expected a number or 'free', got a bool"):
         stfit.fit(str(EXAMPLE), model="ggx", sample="ground", **{name: value})
+
+
+def test_a_0d_array_is_named_with_its_own_shape():
+    """A 0-d array is refused with shape [] in the message, where the conversion to a
+    contiguous array had made it 1-d and the message said [1]."""
+    with pytest.raises(ValueError,
+                       match=r"^w: expected directions of shape \(\.\.\., 3\), got shape \[\]$"):
+        stfit.Ggx(0.3).sigma(np.array(1.0))
