@@ -117,7 +117,8 @@ macro_rules! ndf_class {
                 unary(self.0.into(), wm, "wm", DirValue::D)
             }
 
-            /// Smith `Lambda(w)` on the whole sphere (`Lambda(-w) = -1 - Lambda(w)`).
+            /// Smith `Lambda(w)` on the whole sphere (`Lambda(-w) = -1 - Lambda(w)`); `inf` on the
+            /// horizon (z = 0), where it diverges.
             fn lambda_<'py>(&self, w: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
                 unary(self.0.into(), w, "w", DirValue::Lambda)
             }

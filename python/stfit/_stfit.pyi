@@ -54,7 +54,8 @@ class _Ndf:
     def d(self, wm: ArrayLike) -> FloatOrArray:
         """``D(wm)``, normalised by projected area (integral D(wm) wm.z dwm = 1); 0 for wm.z <= 0."""
     def lambda_(self, w: ArrayLike) -> FloatOrArray:
-        """Smith ``Lambda(w)`` on the whole sphere, extended by Lambda(-w) = -1 - Lambda(w)."""
+        """Smith ``Lambda(w)`` on the whole sphere, extended by Lambda(-w) = -1 - Lambda(w);
+        ``inf`` on the horizon (z = 0), where it diverges (``g1`` is 0 there, ``sigma`` finite)."""
     def sigma(self, w: ArrayLike) -> FloatOrArray:
         """Projected area ``sigma(w) = integral max(0, w.wm) D(wm) dwm`` (= w.z (1 + Lambda(w)) above the horizon)."""
     def g1(self, w: ArrayLike) -> FloatOrArray:
