@@ -6,8 +6,12 @@
 //! single direction). Every direction must be one the library takes
 //! ([`stfit_fit::pairs::direction_problem`]): finite, a unit vector (|norm - 1| <= 1e-6) and
 //! with a `z` that is 0 or normal (not below 2.2e-308).
+//!
+//! With the GIL released another Python thread may write into the caller's array, so a call
+//! reads it once ([`checked_copy`]): it checks and computes on its own copy, and a direction
+//! changed during the call cannot pass the check and then be evaluated as NaN.
 
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat};
@@ -44,6 +48,13 @@ impl<'py> Dirs<'py> {
                 "{name}: not an array of numbers (an integer or float dtype), got dtype {dtype}"
             )));
         }
+        // The shape before the conversion, which makes a 0-d array 1-d.
+        let full: Vec<usize> = array.getattr("shape")?.extract()?;
+        if full.last() != Some(&3) {
+            return Err(PyValueError::new_err(format!(
+                "{name}: expected directions of shape (..., 3), got shape {full:?}"
+            )));
+        }
         let kwargs = PyDict::new(py);
         kwargs.set_item("dtype", np.getattr("float64")?)?;
         let converted = np
@@ -51,12 +62,6 @@ impl<'py> Dirs<'py> {
             .call((array,), Some(&kwargs))
             .map_err(not_numbers)?;
         let array: PyReadonlyArrayDyn<'py, f64> = converted.extract()?;
-        let full = array.shape().to_vec();
-        if full.last() != Some(&3) {
-            return Err(PyValueError::new_err(format!(
-                "{name}: expected directions of shape (..., 3), got shape {full:?}"
-            )));
-        }
         let shape = full[..full.len() - 1].to_vec();
         Ok(Self { array, shape })
     }
@@ -85,25 +90,30 @@ fn refused(c: &[f64]) -> bool {
     direction_problem(Vec3::new(c[0], c[1], c[2])).is_some()
 }
 
-/// The first direction of `flat` that the library does not take ([`direction_problem`]: not
-/// finite, not a unit vector, or a subnormal `z`), as a `ValueError` naming `name` and the row
-/// (run with the GIL released). Rows are checked [`ROWS_PER_TASK`] at a time, and only a block
-/// that fails is searched for its row.
-pub fn check_unit(flat: &[f64], name: &str) -> PyResult<()> {
+/// The coordinates of `flat` copied and checked (in parallel, with the GIL released): what a
+/// call computes on. `flat` borrows the caller's array, which another Python thread may
+/// change while the GIL is released; the copy is what was checked, so a direction changed
+/// during the call cannot pass the check and then be evaluated. The first direction that the
+/// library does not take ([`direction_problem`]: not finite, not a unit vector, or a subnormal
+/// `z`) is a `ValueError` naming `name` and the row. Each block of [`ROWS_PER_TASK`] rows is
+/// checked as it is copied, while it is in cache.
+pub fn checked_copy(flat: &[f64], name: &str) -> PyResult<Vec<f64>> {
     let block = 3 * ROWS_PER_TASK;
-    let bad_block = flat
-        .par_chunks(block)
-        .position_first(|rows| rows.chunks_exact(3).any(refused));
-    let Some(b) = bad_block else {
-        return Ok(());
+    let mut copy = vec![0.0; flat.len()];
+    let bad = copy
+        .par_chunks_mut(block)
+        .zip(flat.par_chunks(block))
+        .enumerate()
+        .filter_map(|(b, (to, from))| {
+            to.copy_from_slice(from);
+            let j = to.chunks_exact(3).position(refused)?;
+            Some(b * ROWS_PER_TASK + j)
+        })
+        .min();
+    let Some(k) = bad else {
+        return Ok(copy);
     };
-    let start = b * ROWS_PER_TASK;
-    let k = start
-        + flat[3 * start..]
-            .chunks_exact(3)
-            .position(refused)
-            .expect("a block that failed has a bad row");
-    let w = dir(flat, k);
+    let w = dir(&copy, k);
     let problem = direction_problem(w).expect("the row was refused");
     Err(PyValueError::new_err(format!(
         "{name}[{k}] = [{}, {}, {}]: {problem}",

@@ -9,7 +9,7 @@ use stfit_core::bsdf::{AnalyticBsdf, Bsdf, Masking, RoughDielectric};
 use stfit_core::ndf::{AnyNdf, Ndf, TabulatedStudentT, WithNdf};
 
 use crate::arrays::{
-    Dirs, Pairing, ROWS_PER_TASK, check_unit, dir, flags, map_rows, values, vectors,
+    Dirs, Pairing, ROWS_PER_TASK, checked_copy, dir, flags, map_rows, values, vectors,
 };
 use crate::errors::{arg_error, value_error};
 use crate::ndf::{any_ndf, ndf_object, stream};
@@ -87,8 +87,7 @@ fn binary<'py>(
     let pairing = Pairing::new(&wi, &wo, ("wi", "wo"))?;
     let (a, b) = (wi.flat()?, wo.flat()?);
     let out = py.detach(|| {
-        check_unit(a, "wi")?;
-        check_unit(b, "wo")?;
+        let (a, b) = (&checked_copy(a, "wi")?, &checked_copy(b, "wo")?);
         let pairs = PairLoop {
             bsdf: &glass.0,
             value,
@@ -163,7 +162,7 @@ impl PyRoughDielectric {
         let n = wi.len();
         let bsdf = &self.0;
         let (wo, weight, pdf, valid) = py.detach(|| {
-            check_unit(flat, "wi")?;
+            let flat = &checked_copy(flat, "wi")?;
             let mut rows = vec![None; n];
             rows.par_chunks_mut(ROWS_PER_TASK)
                 .enumerate()

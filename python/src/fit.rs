@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::PyString;
+use pyo3::types::{PyBool, PyString};
 use stfit_core::ScatteringOrders;
 use stfit_core::error::show;
 use stfit_fit::conventions::{THETA_I_RANGE, THETA_O_RANGE, theta_i_in_range, theta_o_in_range};
@@ -25,8 +25,20 @@ use crate::errors::{arg_error, fit_error, os_error, value_error};
 use crate::ints;
 use crate::walk::orders;
 
-/// A parameter given as a number or `"free"`.
+/// A parameter given as a number or `"free"` (not a bool: `scale=True`, meant as "fit it",
+/// would hold it at 1).
 fn parameter(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Parameter> {
+    let numpy_bool = value
+        .py()
+        .import("numpy")
+        .and_then(|np| np.getattr("bool_"))
+        .is_ok_and(|b| value.is_instance(&b).unwrap_or(false));
+    if value.is_instance_of::<PyBool>() || numpy_bool {
+        return Err(arg_error(
+            name,
+            format!("expected a number or 'free', got a bool ({value})"),
+        ));
+    }
     if let Ok(s) = value.cast::<PyString>() {
         return match s.to_str()? {
             "free" => Ok(Parameter::Free),

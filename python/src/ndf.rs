@@ -8,7 +8,7 @@ use rand_pcg::Pcg64;
 use rayon::prelude::*;
 use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, Ndf, StudentT, WithNdf};
 
-use crate::arrays::{Dirs, ROWS_PER_TASK, check_unit, dir, map_rows, values, vectors};
+use crate::arrays::{Dirs, ROWS_PER_TASK, checked_copy, dir, map_rows, values, vectors};
 use crate::errors::value_error;
 
 /// The random-number stream of rows `[c * ROWS_PER_TASK, (c + 1) * ROWS_PER_TASK)` of a batch
@@ -59,7 +59,7 @@ fn unary<'py>(
     let w = Dirs::new(w, name)?;
     let (flat, n) = (w.flat()?, w.len());
     let out = py.detach(|| {
-        check_unit(flat, name)?;
+        let flat = &checked_copy(flat, name)?;
         Ok::<_, PyErr>(ndf.with(DirLoop { value, flat, n }))
     })?;
     values(py, out, &w.shape)
@@ -117,7 +117,8 @@ macro_rules! ndf_class {
                 unary(self.0.into(), wm, "wm", DirValue::D)
             }
 
-            /// Smith `Lambda(w)` on the whole sphere (`Lambda(-w) = -1 - Lambda(w)`).
+            /// Smith `Lambda(w)` on the whole sphere (`Lambda(-w) = -1 - Lambda(w)`); `inf` on the
+            /// horizon (z = 0), where it diverges.
             fn lambda_<'py>(&self, w: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
                 unary(self.0.into(), w, "w", DirValue::Lambda)
             }
@@ -207,7 +208,7 @@ fn sample_visible<'py>(
     let w = Dirs::new(w, "w")?;
     let flat = w.flat()?;
     let out = py.detach(|| {
-        check_unit(flat, "w")?;
+        let flat = &checked_copy(flat, "w")?;
         let mut out = vec![0.0; flat.len()];
         // Where no normal is visible (sigma(w) = 0: straight below, or far below the horizon
         // where D's tail underflows) a draw is not a visible normal: such rows are refused.

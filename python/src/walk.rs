@@ -4,6 +4,7 @@
 
 use pyo3::prelude::*;
 use stfit_core::ScatteringOrders;
+use stfit_core::error::show;
 use stfit_core::ndf::AnyNdf;
 use stfit_core::surface::{NdfChoice, NdfFamily, Surface, SurfaceOptions};
 use stfit_core::walk::{
@@ -11,7 +12,7 @@ use stfit_core::walk::{
     eval_pairs,
 };
 
-use crate::arrays::{Dirs, Pairing, check_unit, values};
+use crate::arrays::{Dirs, Pairing, checked_copy, values};
 use crate::errors::{arg_error, value_error};
 use crate::ints;
 use crate::ndf::{any_ndf, ndf_object};
@@ -87,6 +88,7 @@ impl PyMicrosurface {
 
     /// Fractions of the flux arriving from the unit direction `wi` that leave on its side
     /// (reflectance) and on the other (transmittance), from `walks` random walks (in [1, 1e9]).
+    /// A `wi` on the horizon (z = 0), from which no flux arrives, is a `ValueError`.
     #[pyo3(signature = (wi, walks = DEFAULT_ALBEDO_WALKS, seed = 1))]
     fn albedo(
         &self,
@@ -103,9 +105,20 @@ impl PyMicrosurface {
         let walks = walks_arg(walks)?;
         let (surface, orders) = (self.surface, self.orders);
         let a = py.detach(|| {
-            check_unit(flat, "wi")?;
+            let flat = &checked_copy(flat, "wi")?;
+            let w = crate::arrays::dir(flat, 0);
+            if w.z == 0.0 {
+                // As `stfit albedo` refuses --theta-i 90: the walks would return 0 and 0.
+                return Err(value_error(format!(
+                    "wi = [{}, {}, {}]: on the horizon (z = 0): no flux arrives from it, so its \
+                     albedo is undefined",
+                    show(w.x),
+                    show(w.y),
+                    show(w.z)
+                )));
+            }
             let estimator = surface.estimator(orders).map_err(value_error)?;
-            Ok::<_, PyErr>(estimator.albedo(crate::arrays::dir(flat, 0), walks, seed))
+            Ok::<_, PyErr>(estimator.albedo(w, walks, seed))
         })?;
         Ok(Albedo(a))
     }
@@ -130,8 +143,7 @@ impl PyMicrosurface {
         let walks = walks_arg(walks)?;
         let (surface, orders) = (self.surface, self.orders);
         let est = py.detach(|| {
-            check_unit(a, "wi")?;
-            check_unit(b, "wo")?;
+            let (a, b) = (&checked_copy(a, "wi")?, &checked_copy(b, "wo")?);
             let estimator = surface.estimator(orders).map_err(value_error)?;
             let pairs: Vec<_> = (0..pairing.n).map(|k| pairing.pair(a, b, k)).collect();
             Ok::<_, PyErr>(eval_pairs(estimator.as_ref(), &pairs, walks, seed))

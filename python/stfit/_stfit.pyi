@@ -6,7 +6,10 @@ or float dtype (booleans, complex numbers and text raise ``ValueError``, not con
 come back with the leading shape, or as a float for a single direction of shape ``(3,)``. A
 direction with a coordinate that is not finite, whose norm differs from 1 by more than 1e-6, or
 whose z is subnormal (nonzero and below 2.2e-308 in magnitude, where 1 / |z| overflows; 0 is the
-horizon) raises ``ValueError`` naming the argument and the row.
+horizon) raises ``ValueError`` naming the argument and the row. A call checks and computes on
+its own copy of the directions, made once with the GIL released: another thread writing into
+the array meanwhile changes what the call may see, but never gets an unchecked direction into
+it (no panic, no NaN).
 """
 
 import os
@@ -51,7 +54,8 @@ class _Ndf:
     def d(self, wm: ArrayLike) -> FloatOrArray:
         """``D(wm)``, normalised by projected area (integral D(wm) wm.z dwm = 1); 0 for wm.z <= 0."""
     def lambda_(self, w: ArrayLike) -> FloatOrArray:
-        """Smith ``Lambda(w)`` on the whole sphere, extended by Lambda(-w) = -1 - Lambda(w)."""
+        """Smith ``Lambda(w)`` on the whole sphere, extended by Lambda(-w) = -1 - Lambda(w);
+        ``inf`` on the horizon (z = 0), where it diverges (``g1`` is 0 there, ``sigma`` finite)."""
     def sigma(self, w: ArrayLike) -> FloatOrArray:
         """Projected area ``sigma(w) = integral max(0, w.wm) D(wm) dwm`` (= w.z (1 + Lambda(w)) above the horizon)."""
     def g1(self, w: ArrayLike) -> FloatOrArray:
@@ -152,7 +156,8 @@ class Microsurface:
     def albedo(self, wi: ArrayLike, walks: int = 1_000_000, seed: int = 1) -> Albedo:
         """The albedo for light from the single unit direction ``wi`` (shape (3,)), from
         ``walks`` walks (in [1, 1e9], else ValueError); parallel, identical for a seed whatever
-        the number of threads."""
+        the number of threads. A ``wi`` on the horizon (z = 0; ``stfit albedo --theta-i 90``),
+        from which no flux arrives, raises ValueError."""
     def eval(
         self, wi: ArrayLike, wo: ArrayLike, walks: int = 100_000, seed: int = 1
     ) -> tuple[FloatOrArray, FloatOrArray]:
@@ -260,7 +265,7 @@ def fit(
     """Fits ``model`` ('beckmann', 'ggx', 'student-t' or 'all': the four models Beckmann, GGX,
     Student-T with gamma = 3 and with gamma free) to every sample, with the command line's
     options and defaults: ``eta`` 1.51 (a number or 'free'), ``scale`` 'free' (or a number to
-    hold it at, at least 2.2e-308), ``log_floor`` of ``loss`` 'log' in [1e-12, 1] (default
+    hold it at, at least 2.2e-308; a bool for either raises ValueError), ``log_floor`` of ``loss`` 'log' in [1e-12, 1] (default
     1e-3), ``orders`` 'single' or 'all' (the random walk's orders >= 2 added, ``walks`` per
     incidence, in [2, 1e9], default 20,000, from ``seed``, default 1; ``multiple_term``
     'surrogate', the default, interpolates that term between a few walk sets while searching,

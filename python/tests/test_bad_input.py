@@ -451,3 +451,31 @@ def test_a_microsurface_refuses_a_shape_its_walks_cannot_take():
     with pytest.raises(ValueError, match=r"^gamma: .*random walks need gamma >= 1\.501"):
         stfit.Microsurface(stfit.StudentT(0.3, 1.5000001), 1.5)
     stfit.Microsurface(stfit.StudentT(0.3, 1.501), 1.5)
+
+
+@pytest.mark.parametrize("wi", [[1.0, 0.0, 0.0], [0.6, -0.8, -0.0]])
+def test_albedo_refuses_a_direction_on_the_horizon(wi):
+    """No flux arrives from a direction on the horizon, so its albedo is undefined: a
+    ValueError naming wi, as `stfit albedo` refuses --theta-i 90, where it returned
+    reflectance 0 +- 0 and transmittance 0 +- 0 (all of the flux lost)."""
+    with pytest.raises(ValueError, match=r"^wi = \[.*\]: on the horizon \(z = 0\)"):
+        _walk().albedo(wi, walks=10)
+    a = _walk().albedo([0.6, 0.0, 0.8], walks=100)
+    assert a.reflectance + a.transmittance > 0.99
+
+
+@pytest.mark.parametrize("name", ["eta", "scale"])
+@pytest.mark.parametrize("value", [True, False, np.bool_(True)])
+def test_fit_parameters_refuse_booleans(name, value):
+    """eta and scale take a number or 'free': a bool is a ValueError naming the parameter,
+    where scale=True (meant as 'fit the scale') held the scale at 1."""
+    with pytest.raises(ValueError, match=rf"^{name}: expected a number or 'free', got a bool"):
+        stfit.fit(str(EXAMPLE), model="ggx", sample="ground", **{name: value})
+
+
+def test_a_0d_array_is_named_with_its_own_shape():
+    """A 0-d array is refused with shape [] in the message, where the conversion to a
+    contiguous array had made it 1-d and the message said [1]."""
+    with pytest.raises(ValueError,
+                       match=r"^w: expected directions of shape \(\.\.\., 3\), got shape \[\]$"):
+        stfit.Ggx(0.3).sigma(np.array(1.0))

@@ -70,3 +70,39 @@ def test_dask_cluster_fits_equal_one_process():
     local = stfit.fit(path, model="all")
     assert distributed == local
     assert [f.to_json() for f in distributed] == [f.to_json() for f in local]
+
+
+def test_an_array_changed_by_another_thread_during_a_call_is_read_once():
+    """A call copies its directions once, then checks and uses that copy: another Python
+    thread writing NaN into the array while the GIL is released makes the call either refuse
+    the NaN (ValueError naming the row) or evaluate the directions it checked, never a panic
+    (the search for the bad row after a failed check found none) or NaN values (a direction
+    changed after its check)."""
+    sys.setswitchinterval(1e-6)
+    glass = stfit.RoughDielectric(stfit.Ggx(0.3), 1.5)
+    ndf = stfit.Ggx(0.3)
+    n = 200_000
+    wi = np.tile([0.0, 0.0, 1.0], (n, 1))
+    wo = np.tile([0.0, 0.0, -1.0], (n, 1))
+    stop = threading.Event()
+
+    def spoil():
+        row = wi[n - 1]
+        while not stop.is_set():
+            row[2] = np.nan
+            row[2] = 1.0
+
+    spoiler = threading.Thread(target=spoil)
+    spoiler.start()
+    try:
+        for call in [lambda: glass.eval(wi, wo), lambda: ndf.d(wi)] * 100:
+            try:
+                values = call()
+            except ValueError as e:
+                assert str(e).startswith((f"wi[{n - 1}]", f"wm[{n - 1}]")), str(e)
+                continue
+            assert np.all(np.isfinite(values))
+    finally:
+        stop.set()
+        spoiler.join()
+        sys.setswitchinterval(0.005)
