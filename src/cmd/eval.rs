@@ -6,16 +6,14 @@
 //! Output on stdout: the same rows with a column `f_cos = f(wi, wo) |wo.z|` appended
 //! (reflection or transmission by the sides of `wi` and `wo`). Single scattering of a
 //! height-field NDF with dielectric facets is the closed-form BSDF of Walter et al. 2007 (a
-//! Student-T NDF through its interpolated Lambda fractions, [`analytic_values`]); every
+//! Student-T NDF through its interpolated Lambda fractions,
+//! [`RoughDielectric::f_cos_batch`](stfit_core::bsdf::RoughDielectric::f_cos_batch)); every
 //! other case is a random-walk estimate (rows sharing a `wi` share one set of walks, seeded by
 //! the direction) with a column `f_cos_stderr`.
 
 use std::io::{BufWriter, Read, Write};
 use std::path::Path;
 
-use stfit_core::Vec3;
-use stfit_core::bsdf::{AnalyticBsdf, RoughDielectric};
-use stfit_core::ndf::{AnyNdf, TabulatedStudentT};
 use stfit_core::surface::Evaluation;
 use stfit_core::walk::{
     DEFAULT_EVAL_WALKS, WalkCost, check_walks, defined_stderr, distinct_incidences,
@@ -51,20 +49,6 @@ pub struct Args {
     pub retired: Retired,
 }
 
-/// `f(wi, wo) |wo.z|` of the closed-form BSDF at every pair. A Student-T NDF is evaluated as
-/// its [`TabulatedStudentT`] (Lambda's continued fractions interpolated, to a few ulps of the
-/// exact ones), as the Python package's `RoughDielectric.eval` evaluates it: the two print the
-/// same digits, and a batch of pairs pays for the table (tens of microseconds) once.
-pub fn analytic_values(bsdf: &RoughDielectric<AnyNdf>, pairs: &[(Vec3, Vec3)]) -> Vec<f64> {
-    match bsdf.ndf() {
-        AnyNdf::StudentT(st) => {
-            let fast = bsdf.with_ndf(TabulatedStudentT::new(*st));
-            pairs.iter().map(|&(wi, wo)| fast.f_cos(wi, wo)).collect()
-        }
-        _ => pairs.iter().map(|&(wi, wo)| bsdf.f_cos(wi, wo)).collect(),
-    }
-}
-
 /// Runs `stfit eval`: CSV from stdin to stdout. Invalid options are usage errors (exit status
 /// 2); bad input is a failure (1), and then nothing is written.
 /// `given` lists the walk flags given on the command line: they are refused where the
@@ -90,7 +74,7 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
     let mut out = BufWriter::new(std::io::stdout().lock());
     let written = match evaluation {
         Evaluation::Analytic(bsdf) => {
-            let values = analytic_values(&bsdf, &table.pairs);
+            let values = bsdf.f_cos_batch(&table.pairs);
             if let Some(k) = values.iter().position(|v| !v.is_finite()) {
                 return Err(failed(format!(
                     "row {}: the BSDF value is not finite",
