@@ -107,7 +107,8 @@ fn binary<'py>(
 impl PyRoughDielectric {
     #[new]
     #[pyo3(signature = (ndf, eta, masking = "separable"))]
-    fn new(ndf: &Bound<'_, PyAny>, eta: f64, masking: &str) -> PyResult<Self> {
+    fn new(ndf: &Bound<'_, PyAny>, eta: &Bound<'_, PyAny>, masking: &str) -> PyResult<Self> {
+        let eta = crate::numbers::float("eta", eta)?;
         RoughDielectric::new(any_ndf(ndf)?, eta, self::masking(masking)?)
             .map(|b| Self(b, OnceLock::new()))
             .map_err(value_error)

@@ -15,6 +15,7 @@ use stfit_fit::load::{
 use stfit_fit::{Column, Dataset, load_columns, load_paths};
 
 use crate::errors::{column_error, load_error, value_error};
+use crate::numbers::first_masked;
 
 /// Measurements: one or more named samples, each a list of points with the angles their
 /// source gave, the measured value (`L` or the BSDF) and a weight.
@@ -54,6 +55,21 @@ const NUMBERS: [&str; 8] = [
 /// go to the loader as text, which reports the first at its row.
 fn column(source: &str, name: &str, values: &Bound<'_, PyAny>) -> PyResult<Column> {
     let py = values.py();
+    if let Some(index) = first_masked(values)? {
+        // The row when the column is 1-D; a masked element of another shape at the column.
+        let row = (index.len() == 1).then(|| index[0]);
+        return Err(column_error(
+            py,
+            source,
+            row,
+            Some(name),
+            format!(
+                "masked (element {index:?} of a masked array): fill the masked values \
+                 (numpy.ma.filled) or drop their rows first; the values under the mask are \
+                 not used"
+            ),
+        ));
+    }
     let np = py.import("numpy")?;
     let array = np
         .call_method1("asarray", (values,))

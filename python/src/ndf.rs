@@ -10,6 +10,7 @@ use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, Ndf, StudentT, WithNdf};
 
 use crate::arrays::{Dirs, ROWS_PER_TASK, checked_copy, dir, map_rows, values, vectors};
 use crate::errors::value_error;
+use crate::numbers::float;
 
 /// The random-number stream of rows `[c * ROWS_PER_TASK, (c + 1) * ROWS_PER_TASK)` of a batch
 /// drawn with `seed`: fixed by the seed and the rows, whatever the number of threads.
@@ -102,7 +103,8 @@ macro_rules! ndf_class {
         #[pymethods]
         impl $class {
             #[new]
-            fn new($($arg: f64),*) -> PyResult<Self> {
+            fn new($($arg: &Bound<'_, PyAny>),*) -> PyResult<Self> {
+                $(let $arg = float(stringify!($arg), $arg)?;)*
                 $make.map(Self).map_err(value_error)
             }
 

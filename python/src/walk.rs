@@ -39,8 +39,9 @@ fn walks_arg(walks: u64) -> PyResult<u64> {
 impl PyMicrosurface {
     #[new]
     #[pyo3(signature = (ndf, eta, orders = "all"))]
-    fn new(ndf: &Bound<'_, PyAny>, eta: f64, orders: &str) -> PyResult<Self> {
+    fn new(ndf: &Bound<'_, PyAny>, eta: &Bound<'_, PyAny>, orders: &str) -> PyResult<Self> {
         let n = any_ndf(ndf)?;
+        let eta = crate::numbers::float("eta", eta)?;
         let family = match n {
             AnyNdf::Beckmann(_) => NdfFamily::Beckmann,
             AnyNdf::Ggx(_) => NdfFamily::Ggx,

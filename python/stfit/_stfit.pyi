@@ -2,14 +2,28 @@
 
 Directions are unit vectors in the local frame (+z the macro normal, z > 0 outside with index
 1, z < 0 inside with index ``eta``), given as any array-like of shape ``(..., 3)`` of an integer
-or float dtype (booleans, complex numbers and text raise ``ValueError``, not converted); values
-come back with the leading shape, or as a float for a single direction of shape ``(3,)``. A
+or float dtype (booleans, complex numbers and text raise ``ValueError``, not converted, and so
+does a bool among numbers in nested lists, which NumPy would make 1 or 0); values come back
+with the leading shape, or as a float for a single direction of shape ``(3,)``. A
 direction with a coordinate that is not finite, whose norm differs from 1 by more than 1e-6, or
 whose z is subnormal (nonzero and below 2.2e-308 in magnitude, where 1 / |z| overflows; 0 is the
 horizon) raises ``ValueError`` naming the argument and the row. A call checks and computes on
 its own copy of the directions, made once with the GIL released: another thread writing into
 the array meanwhile changes what the call may see, but never gets an unchecked direction into
 it (no panic, no NaN).
+
+Numbers: every numeric argument (``alpha``, ``gamma``, ``eta``, ``scale``, ``noise``,
+``log_floor``, ``n``, ``k``, ``absorption``, ``walks``, ``seed``, shard numbers, and the
+elements of angle lists, axis lists and ``predict``'s angles) takes a Python int or float or a
+NumPy integer or float; a bool (``True``, ``numpy.bool_``, a bool array) raises ``ValueError``
+naming the argument (and the element's index), where it would count as 1 or 0; anything else
+that is not a number raises ``TypeError`` naming it.
+
+Masked arrays: a ``numpy.ma.MaskedArray`` with a masked element, given as directions, as a
+number sequence or as a column of ``load``, raises ``ValueError`` naming the argument and the
+first masked index (``LoadError`` at the masked row for a column): its values under the mask
+would be used. Fill (``numpy.ma.filled``) or drop (``compressed``) them first; a masked array
+with nothing masked is taken as its data.
 """
 
 import os
@@ -195,8 +209,8 @@ def load(source: DataSource, *, sample: Optional[str] = None) -> Dataset:
     names to arrays, or a pandas DataFrame), validated by the same rules: the names are strings,
     each column is 1-D (one value per row), the number columns (angles, ``L``, ``sqrt_L``,
     ``bsdf``, ``weight``) have an integer or float dtype (booleans, complex numbers and text are
-    refused, not converted), and a missing sample name (None, NaN, pandas' NA) is refused as an
-    empty one. Raises LoadError with the file (``<arrays>``, ``<DataFrame>`` for columns), line
+    refused, not converted), a masked array with a masked element is refused at its row, and a
+    missing sample name (None, NaN, pandas' NA) is refused as an empty one. Raises LoadError with the file (``<arrays>``, ``<DataFrame>`` for columns), line
     (row k is line k + 2) and column of the first problem."""
 
 class FitResult:
