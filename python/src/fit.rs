@@ -23,7 +23,7 @@ use crate::bsdf::masking;
 use crate::data::{PyDataset, dataset_of};
 use crate::errors::{arg_error, fit_error, os_error, value_error};
 use crate::ints;
-use crate::numbers::{self, float, floats, opt_float};
+use crate::numbers::{self, float, float_repr, floats, opt_float};
 use crate::walk::orders;
 
 /// A parameter given as a number or `"free"` (not a bool: `scale=True`, meant as "fit it",
@@ -406,13 +406,13 @@ impl PyFitResult {
         Ok((slf.get_type().getattr("from_json")?, (slf.get().to_json(),)))
     }
 
-    fn __repr__(&self) -> String {
-        format!(
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        Ok(format!(
             "stfit.FitResult({}, alpha={}, rmse_sqrt_l={})",
             self.0.label(),
-            self.0.model.alpha,
-            self.0.rmse_sqrt_l
-        )
+            float_repr(py, self.0.model.alpha)?,
+            float_repr(py, self.0.rmse_sqrt_l)?
+        ))
     }
 }
 

@@ -157,3 +157,9 @@ pub mod arg {
 
     named!(scale, noise, eta);
 }
+
+/// `x` as Python's `repr(float)` writes it, the shortest text that reads back to it (`0.3`,
+/// `1.0`, `1e-08`, `1e+300`, `inf`): how every `__repr__` of the package shows a number.
+pub fn float_repr(py: Python<'_>, x: f64) -> PyResult<String> {
+    Ok(PyFloat::new(py, x).repr()?.to_string())
+}

@@ -24,6 +24,12 @@ number sequence or as a column of ``load``, raises ``ValueError`` naming the arg
 first masked index (``LoadError`` at the masked row for a column): its values under the mask
 would be used. Fill (``numpy.ma.filled``) or drop (``compressed``) them first; a masked array
 with nothing masked is taken as its data.
+
+Values: reprs write numbers as ``repr(float)`` does (``stfit.Ggx(alpha=1e-08)``). NDFs,
+``RoughDielectric`` and ``Microsurface`` are immutable parameter objects: equal when of the
+same class with equal parameters (and NDFs), hashable consistently with that, and they pickle
+as their arguments. ``Dataset``, ``Albedo`` and ``FitResult`` pickle too, every number exactly;
+``Dataset`` and ``FitResult`` compare by value and are unhashable.
 """
 
 import os
@@ -62,6 +68,9 @@ class FitError(ValueError):
     message: str
 
 class _Ndf:
+    def __eq__(self, other: object) -> bool:
+        """Equal to an NDF of the same class with the same parameters."""
+    def __hash__(self) -> int: ...
     @property
     def alpha(self) -> float:
         """The roughness alpha."""
@@ -121,6 +130,9 @@ class RoughDielectric:
     side."""
 
     def __init__(self, ndf: Ndf, eta: float, masking: str = "separable") -> None: ...
+    def __eq__(self, other: object) -> bool:
+        """Equal when the NDFs, ``eta`` and ``masking`` are."""
+    def __hash__(self) -> int: ...
     @property
     def ndf(self) -> Ndf: ...
     @property
@@ -143,7 +155,8 @@ class Albedo:
     events per walk that left within the orders: the path length, which facet albedos do not
     change, since they weight a walk rather than end it; None when no walk left within the
     orders, as ``stfit albedo --json`` gives null), the fraction
-    ``truncated`` dropped at the safety cap, and ``walks``."""
+    ``truncated`` dropped at the safety cap, and ``walks``. Pickles with every number
+    exact."""
 
     reflectance: float
     transmittance: float
@@ -161,6 +174,9 @@ class Microsurface:
     gamma >= 1.501 (walk lengths diverge at 3/2): a smaller shape raises ``ValueError`` here."""
 
     def __init__(self, ndf: Ndf, eta: float, orders: str = "all") -> None: ...
+    def __eq__(self, other: object) -> bool:
+        """Equal when the NDFs, ``eta`` and ``orders`` are."""
+    def __hash__(self) -> int: ...
     @property
     def ndf(self) -> Ndf: ...
     @property
@@ -184,7 +200,12 @@ class Microsurface:
         NaN (``stfit eval`` leaves them empty)."""
 
 class Dataset:
-    """Measurements: named samples of points (angles, value ``L`` or BSDF, weight)."""
+    """Measurements: named samples of points (angles, value ``L`` or BSDF, weight). Equal
+    when the source, the sample names and every point are; unhashable; pickles with every
+    number exact (a task of a cluster can take one)."""
+
+    def __eq__(self, other: object) -> bool: ...
+    __hash__: None  # type: ignore[assignment]
 
     @property
     def source(self) -> str:
