@@ -20,6 +20,8 @@ use stfit_core::Vec3;
 use stfit_core::error::show;
 use stfit_fit::pairs::direction_problem;
 
+use crate::numbers::{nested_bool, refuse_masked};
+
 /// Rows per parallel task (and per random-number stream of the samplers): batches shorter
 /// than this run on the calling thread.
 pub const ROWS_PER_TASK: usize = 4096;
@@ -34,9 +36,12 @@ pub struct Dirs<'py> {
 impl<'py> Dirs<'py> {
     /// The batch in `obj`, named `name` in errors: an array of an integer or float dtype
     /// (booleans, complex numbers, text and objects are refused, not converted: a plain
-    /// conversion drops an imaginary part and parses text).
+    /// conversion drops an imaginary part and parses text; so is a bool in nested lists, which
+    /// NumPy would make 1 or 0 among numbers, and a masked array with a masked element,
+    /// [`refuse_masked`]).
     pub fn new(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<Self> {
         let py = obj.py();
+        refuse_masked(name, obj)?;
         let np = py.import("numpy")?;
         let not_numbers =
             |e: PyErr| PyValueError::new_err(format!("{name}: not an array of numbers: {e}"));
@@ -46,6 +51,12 @@ impl<'py> Dirs<'py> {
         if !matches!(kind.as_str(), "i" | "u" | "f") {
             return Err(PyValueError::new_err(format!(
                 "{name}: not an array of numbers (an integer or float dtype), got dtype {dtype}"
+            )));
+        }
+        // Bools among numbers in lists, which NumPy made numbers.
+        if let Some((index, shown)) = nested_bool(obj)? {
+            return Err(PyValueError::new_err(format!(
+                "{name}: the element at index {index:?} is a bool ({shown}), not a number"
             )));
         }
         // The shape before the conversion, which makes a 0-d array 1-d.

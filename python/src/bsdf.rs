@@ -12,7 +12,8 @@ use crate::arrays::{
     Dirs, Pairing, ROWS_PER_TASK, checked_copy, dir, flags, map_rows, values, vectors,
 };
 use crate::errors::{arg_error, value_error};
-use crate::ndf::{any_ndf, ndf_object, stream};
+use crate::ndf::{self, any_ndf, ndf_object, stream};
+use crate::numbers::float_repr;
 
 /// Parses a masking name, `separable` or `correlated`.
 pub fn masking(name: &str) -> PyResult<Masking> {
@@ -26,6 +27,11 @@ pub fn masking(name: &str) -> PyResult<Masking> {
 pub struct PyRoughDielectric(RoughDielectric<AnyNdf>, OnceLock<Option<TabulatedStudentT>>);
 
 impl PyRoughDielectric {
+    /// What makes two rough dielectrics equal (not the table, which their NDF fixes).
+    fn key(&self) -> (ndf::Key, f64, Masking) {
+        (ndf::key(*self.0.ndf()), self.0.eta(), self.0.masking())
+    }
+
     /// The NDF that `eval` and `pdf` use: the tabulated form of a Student-T.
     fn pair_ndf(&self) -> Option<&TabulatedStudentT> {
         self.1
@@ -107,7 +113,8 @@ fn binary<'py>(
 impl PyRoughDielectric {
     #[new]
     #[pyo3(signature = (ndf, eta, masking = "separable"))]
-    fn new(ndf: &Bound<'_, PyAny>, eta: f64, masking: &str) -> PyResult<Self> {
+    fn new(ndf: &Bound<'_, PyAny>, eta: &Bound<'_, PyAny>, masking: &str) -> PyResult<Self> {
+        let eta = crate::numbers::float("eta", eta)?;
         RoughDielectric::new(any_ndf(ndf)?, eta, self::masking(masking)?)
             .map(|b| Self(b, OnceLock::new()))
             .map_err(value_error)
@@ -197,8 +204,22 @@ impl PyRoughDielectric {
         Ok(format!(
             "stfit.RoughDielectric({}, eta={}, masking='{}')",
             ndf_object(py, *self.0.ndf())?.repr()?,
-            self.0.eta(),
+            float_repr(py, self.0.eta())?,
             self.0.masking().name()
+        ))
+    }
+
+    /// Equal when the NDFs are equal (class and parameters), and so are `eta` and `masking`.
+    fn __eq__(&self, other: &Bound<'_, Self>) -> bool {
+        self.key() == other.get().key()
+    }
+
+    /// Consistent with `__eq__`.
+    fn __hash__(&self) -> u64 {
+        ndf::hash_of((
+            ndf::hash_key(*self.0.ndf()),
+            ndf::bits(self.0.eta()),
+            self.0.masking(),
         ))
     }
 

@@ -7,14 +7,16 @@ use std::path::{Path, PathBuf};
 use numpy::PyArray1;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PySlice, PyString, PyTuple};
+use pyo3::types::{PyBytes, PyDict, PyList, PySlice, PyString, PyTuple};
 use stfit_fit::data::Angles;
+use stfit_fit::data::{Measurement, Sample};
 use stfit_fit::load::{
     COL_BSDF, COL_L, COL_PHI_I, COL_PHI_O, COL_SQRT_L, COL_THETA_I, COL_THETA_O, COL_WEIGHT,
 };
 use stfit_fit::{Column, Dataset, load_columns, load_paths};
 
 use crate::errors::{column_error, load_error, value_error};
+use crate::numbers::first_masked;
 
 /// Measurements: one or more named samples, each a list of points with the angles their
 /// source gave, the measured value (`L` or the BSDF) and a weight.
@@ -54,6 +56,21 @@ const NUMBERS: [&str; 8] = [
 /// go to the loader as text, which reports the first at its row.
 fn column(source: &str, name: &str, values: &Bound<'_, PyAny>) -> PyResult<Column> {
     let py = values.py();
+    if let Some(index) = first_masked(values)? {
+        // The row when the column is 1-D; a masked element of another shape at the column.
+        let row = (index.len() == 1).then(|| index[0]);
+        return Err(column_error(
+            py,
+            source,
+            row,
+            Some(name),
+            format!(
+                "masked (element {index:?} of a masked array): fill the masked values \
+                 (numpy.ma.filled) or drop their rows first; the values under the mask are \
+                 not used"
+            ),
+        ));
+    }
     let np = py.import("numpy")?;
     let array = np
         .call_method1("asarray", (values,))
@@ -384,6 +401,108 @@ impl PyDataset {
 
     fn __len__(&self) -> usize {
         self.0.samples.len()
+    }
+
+    /// Equal when the source and every sample's name and points (angles, value, weight) are.
+    fn __eq__(&self, other: &Bound<'_, Self>) -> bool {
+        self.0 == other.get().0
+    }
+
+    /// Unhashable: datasets compare by their (possibly many) points.
+    #[classattr]
+    const __hash__: Option<Py<PyAny>> = None;
+
+    /// A dataset from the state `__reduce__` gives: the source and, per sample, its name, one
+    /// byte per point (0 in-plane, 1 general) and the points' numbers as little-endian
+    /// `float64` bytes (theta_i, theta_o, value, weight in-plane; theta_i, phi_i, theta_o,
+    /// phi_o, value, weight general).
+    #[staticmethod]
+    fn _from_state<'py>(
+        source: PathBuf,
+        samples: Vec<(String, Bound<'py, PyBytes>, Bound<'py, PyBytes>)>,
+    ) -> PyResult<Self> {
+        let bad = || value_error("Dataset._from_state: not a state of Dataset.__reduce__");
+        let samples = samples
+            .into_iter()
+            .map(|(name, kinds, bytes)| {
+                let (kinds, bytes) = (kinds.as_bytes(), bytes.as_bytes());
+                if bytes.len() % 8 != 0 {
+                    return Err(bad());
+                }
+                let numbers: Vec<f64> = bytes
+                    .chunks_exact(8)
+                    .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+                    .collect();
+                let mut rest = numbers.as_slice();
+                let mut points = Vec::with_capacity(kinds.len());
+                for &kind in kinds {
+                    let n = match kind {
+                        0 => 4,
+                        1 => 6,
+                        _ => return Err(bad()),
+                    };
+                    if rest.len() < n {
+                        return Err(bad());
+                    }
+                    let (p, r) = rest.split_at(n);
+                    rest = r;
+                    points.push(match *p {
+                        [ti, to, v, w] => Measurement::in_plane(ti, to, v, w),
+                        [ti, pi, to, po, v, w] => Measurement::spherical((ti, pi), (to, po), v, w),
+                        _ => unreachable!("4 or 6 numbers"),
+                    });
+                }
+                if !rest.is_empty() {
+                    return Err(bad());
+                }
+                Ok(Sample { name, points })
+            })
+            .collect::<PyResult<_>>()?;
+        Ok(Self(Dataset { source, samples }))
+    }
+
+    /// Pickles as its points, every number exactly ([`PyDataset::_from_state`]).
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let py = slf.py();
+        let d = &slf.get().0;
+        let samples = d
+            .samples
+            .iter()
+            .map(|s| {
+                let mut kinds = Vec::with_capacity(s.points.len());
+                let mut bytes = Vec::new();
+                for p in &s.points {
+                    let numbers: Vec<f64> = match p.angles {
+                        Angles::InPlane {
+                            theta_i_deg,
+                            theta_o_deg,
+                        } => {
+                            kinds.push(0u8);
+                            vec![theta_i_deg, theta_o_deg]
+                        }
+                        Angles::Spherical {
+                            theta_i_deg,
+                            phi_i_deg,
+                            theta_o_deg,
+                            phi_o_deg,
+                        } => {
+                            kinds.push(1u8);
+                            vec![theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg]
+                        }
+                    };
+                    for x in numbers.into_iter().chain([p.value, p.weight]) {
+                        bytes.extend_from_slice(&x.to_le_bytes());
+                    }
+                }
+                (
+                    s.name.clone(),
+                    PyBytes::new(py, &kinds),
+                    PyBytes::new(py, &bytes),
+                )
+            })
+            .collect::<Vec<_>>();
+        let state = (d.source.clone(), samples).into_pyobject(py)?.into_any();
+        Ok((slf.get_type().getattr("_from_state")?, state))
     }
 
     fn __repr__(&self) -> String {

@@ -104,11 +104,12 @@ pub fn export(
     model: Option<&str>,
     out: Option<PathBuf>,
     layer: Option<&str>,
-    absorption: Option<f64>,
+    absorption: Option<&Bound<'_, PyAny>>,
     walks: Option<&Bound<'_, PyAny>>,
     seed: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let target = target(to)?;
+    let absorption = crate::numbers::opt_float("absorption", absorption)?;
     let walks = walks.map(crate::ints::walks).transpose()?;
     let seed = seed.map(crate::ints::seed).transpose()?;
     let defaults = RadianceOptions::default();

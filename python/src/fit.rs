@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyString};
+use pyo3::types::PyString;
 use stfit_core::ScatteringOrders;
 use stfit_core::error::show;
 use stfit_fit::conventions::{THETA_I_RANGE, THETA_O_RANGE, theta_i_in_range, theta_o_in_range};
@@ -23,17 +23,13 @@ use crate::bsdf::masking;
 use crate::data::{PyDataset, dataset_of};
 use crate::errors::{arg_error, fit_error, os_error, value_error};
 use crate::ints;
+use crate::numbers::{self, float, float_repr, floats, opt_float};
 use crate::walk::orders;
 
 /// A parameter given as a number or `"free"` (not a bool: `scale=True`, meant as "fit it",
 /// would hold it at 1).
 fn parameter(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Parameter> {
-    let numpy_bool = value
-        .py()
-        .import("numpy")
-        .and_then(|np| np.getattr("bool_"))
-        .is_ok_and(|b| value.is_instance(&b).unwrap_or(false));
-    if value.is_instance_of::<PyBool>() || numpy_bool {
+    if numbers::is_bool(value)? {
         return Err(arg_error(
             name,
             format!("expected a number or 'free', got a bool ({value})"),
@@ -48,6 +44,7 @@ fn parameter(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Parameter> {
             )),
         };
     }
+    numbers::refuse_masked(name, value)?;
     value
         .extract::<f64>()
         .map(Parameter::Fixed)
@@ -179,12 +176,12 @@ pub fn fit(
     py: Python<'_>,
     data: &Bound<'_, PyAny>,
     model: &str,
-    gamma: Option<f64>,
+    gamma: Option<&Bound<'_, PyAny>>,
     sample: Option<&str>,
     eta: Option<&Bound<'_, PyAny>>,
     scale: Option<&Bound<'_, PyAny>>,
     loss: &str,
-    log_floor: Option<f64>,
+    log_floor: Option<&Bound<'_, PyAny>>,
     optimizer: &str,
     masking: Option<&str>,
     orders: &str,
@@ -192,12 +189,12 @@ pub fn fit(
     seed: Option<&Bound<'_, PyAny>>,
     multiple_term: Option<&str>,
 ) -> PyResult<Vec<PyFitResult>> {
-    let specs = specs(model, gamma)?;
+    let specs = specs(model, opt_float("gamma", gamma)?)?;
     let opts = fit_options(
         eta,
         scale,
         loss,
-        log_floor,
+        opt_float("log_floor", log_floor)?,
         optimizer,
         masking,
         orders,
@@ -360,9 +357,16 @@ impl PyFitResult {
     fn predict(
         &self,
         py: Python<'_>,
-        theta_i_deg: Vec<f64>,
-        theta_o_deg: Vec<f64>,
+        theta_i_deg: &Bound<'_, PyAny>,
+        theta_o_deg: &Bound<'_, PyAny>,
     ) -> PyResult<Vec<f64>> {
+        let sequence = |name: &str, v| {
+            floats(name, v)?.ok_or_else(|| {
+                PyTypeError::new_err(format!("{name}: expected a sequence of numbers"))
+            })
+        };
+        let theta_i_deg = sequence("theta_i_deg", theta_i_deg)?;
+        let theta_o_deg = sequence("theta_o_deg", theta_o_deg)?;
         if theta_i_deg.len() != theta_o_deg.len() {
             return Err(value_error(
                 "theta_i_deg and theta_o_deg must have the same length",
@@ -402,13 +406,13 @@ impl PyFitResult {
         Ok((slf.get_type().getattr("from_json")?, (slf.get().to_json(),)))
     }
 
-    fn __repr__(&self) -> String {
-        format!(
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        Ok(format!(
             "stfit.FitResult({}, alpha={}, rmse_sqrt_l={})",
             self.0.label(),
-            self.0.model.alpha,
-            self.0.rmse_sqrt_l
-        )
+            float_repr(py, self.0.model.alpha)?,
+            float_repr(py, self.0.rmse_sqrt_l)?
+        ))
     }
 }
 
@@ -470,9 +474,8 @@ fn angle_list(name: &str, value: Option<&Bound<'_, PyAny>>, default: &str) -> Py
         None => parse_angle_list(default).map_err(|e| arg_error(name, e)),
         Some(v) => match v.cast::<PyString>() {
             Ok(s) => parse_angle_list(s.to_str()?).map_err(|e| arg_error(name, e)),
-            Err(_) => v
-                .extract::<Vec<f64>>()
-                .map_err(|_| arg_error(name, "expected a sequence of numbers or a text list")),
+            Err(_) => floats(name, v)?
+                .ok_or_else(|| arg_error(name, "expected a sequence of numbers or a text list")),
         },
     }
 }
@@ -489,17 +492,17 @@ fn angle_list(name: &str, value: Option<&Bound<'_, PyAny>>, default: &str) -> Py
 pub fn synth(
     py: Python<'_>,
     model: &str,
-    alpha: f64,
-    gamma: Option<f64>,
-    scale: f64,
-    noise: f64,
+    alpha: &Bound<'_, PyAny>,
+    gamma: Option<&Bound<'_, PyAny>>,
+    #[pyo3(from_py_with = numbers::arg::scale)] scale: f64,
+    #[pyo3(from_py_with = numbers::arg::noise)] noise: f64,
     #[pyo3(from_py_with = ints::seed)] seed: u64,
     grid: &str,
     theta_i: Option<&Bound<'_, PyAny>>,
     phi_i: Option<&Bound<'_, PyAny>>,
     theta_o: Option<&Bound<'_, PyAny>>,
     phi_o: Option<&Bound<'_, PyAny>>,
-    eta: f64,
+    #[pyo3(from_py_with = numbers::arg::eta)] eta: f64,
     masking: Option<&str>,
     orders: &str,
     walks: Option<&Bound<'_, PyAny>>,
@@ -507,6 +510,7 @@ pub fn synth(
     out: Option<PathBuf>,
 ) -> PyResult<PyDataset> {
     let kind: ModelKind = model.parse().map_err(|e| arg_error("model", e))?;
+    let (alpha, gamma) = (float("alpha", alpha)?, opt_float("gamma", gamma)?);
     let grid = match grid {
         "in-plane" => {
             for (given, name) in [(phi_i, "phi_i"), (phi_o, "phi_o")] {
@@ -604,7 +608,7 @@ pub fn report(
     eta: Option<&Bound<'_, PyAny>>,
     scale: Option<&Bound<'_, PyAny>>,
     loss: Option<&str>,
-    log_floor: Option<f64>,
+    log_floor: Option<&Bound<'_, PyAny>>,
     optimizer: Option<&str>,
     masking: Option<&str>,
     orders: Option<&str>,
@@ -662,7 +666,7 @@ pub fn report(
                 eta,
                 scale,
                 loss.unwrap_or("sqrt"),
-                log_floor,
+                opt_float("log_floor", log_floor)?,
                 optimizer.unwrap_or("nelder-mead"),
                 masking,
                 orders.unwrap_or("single"),

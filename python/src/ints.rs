@@ -1,11 +1,10 @@
 //! Integer arguments (`walks`, `seed`, a shard's `index` and `count`): a Python int or a NumPy
-//! integer, not a bool. An integer that does not fit is a `ValueError` naming the argument and
+//! integer, not a bool (Python's or NumPy's, [`crate::numbers::is_bool`]). An integer that does not fit is a `ValueError` naming the argument and
 //! its range, as any other bad value, not the `OverflowError` of a plain conversion; each
 //! value's own range (such as [`stfit_core::walk::check_walks`]) is checked where it is used.
 
 use pyo3::exceptions::PyOverflowError;
 use pyo3::prelude::*;
-use pyo3::types::PyBool;
 use stfit_core::walk::MAX_WALKS;
 
 use crate::errors::arg_error;
@@ -13,12 +12,13 @@ use crate::errors::arg_error;
 /// The integer argument `name` as a `u64`: a bool, a negative integer or one of 2^64 or more
 /// is a `ValueError` stating `range`; a value that is not an integer a `TypeError`.
 fn integer(name: &str, value: &Bound<'_, PyAny>, range: &str) -> PyResult<u64> {
-    if value.is_instance_of::<PyBool>() {
+    if crate::numbers::is_bool(value)? {
         return Err(arg_error(
             name,
-            format!("expected an integer in {range}, got {value}"),
+            format!("expected an integer in {range}, got a bool ({value})"),
         ));
     }
+    crate::numbers::refuse_masked(name, value)?;
     value.extract::<u64>().map_err(|e| {
         if e.is_instance_of::<PyOverflowError>(value.py()) {
             arg_error(name, format!("{value} is not an integer in {range}"))

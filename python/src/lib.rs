@@ -11,6 +11,7 @@ mod export;
 mod fit;
 mod ints;
 mod ndf;
+mod numbers;
 mod tables;
 mod walk;
 

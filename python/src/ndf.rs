@@ -10,6 +10,7 @@ use stfit_core::ndf::{AnyNdf, Beckmann, Ggx, Ndf, StudentT, WithNdf};
 
 use crate::arrays::{Dirs, ROWS_PER_TASK, checked_copy, dir, map_rows, values, vectors};
 use crate::errors::value_error;
+use crate::numbers::{float, float_repr};
 
 /// The random-number stream of rows `[c * ROWS_PER_TASK, (c + 1) * ROWS_PER_TASK)` of a batch
 /// drawn with `seed`: fixed by the seed and the rows, whatever the number of threads.
@@ -91,9 +92,59 @@ pub fn ndf_object(py: Python<'_>, ndf: AnyNdf) -> PyResult<Bound<'_, PyAny>> {
     })
 }
 
+/// The parameters that make an NDF what it is: its roughness and, for a Student-T, its shape.
+pub fn params(ndf: AnyNdf) -> (f64, Option<f64>) {
+    (ndf.alpha(), ndf.gamma())
+}
+
+/// The Python class name of an NDF.
+pub fn class_name(ndf: AnyNdf) -> &'static str {
+    match ndf {
+        AnyNdf::StudentT(_) => "StudentT",
+        AnyNdf::Ggx(_) => "Ggx",
+        AnyNdf::Beckmann(_) => "Beckmann",
+    }
+}
+
+/// What makes two NDFs equal: the class and the parameters.
+pub type Key = (&'static str, (f64, Option<f64>));
+
+/// The [`Key`] of an NDF.
+pub fn key(ndf: AnyNdf) -> Key {
+    (class_name(ndf), params(ndf))
+}
+
+/// The bits of a number, equal for equal numbers (`-0.0` as `0.0`): what hashes agree on.
+pub fn bits(x: f64) -> u64 {
+    (x + 0.0).to_bits()
+}
+
+/// What equal NDFs hash by: [`key`] with the numbers' [`bits`].
+pub fn hash_key(ndf: AnyNdf) -> (&'static str, u64, Option<u64>) {
+    let (class, (alpha, gamma)) = key(ndf);
+    (class, bits(alpha), gamma.map(bits))
+}
+
+/// A hash of `value` for `__hash__`.
+pub fn hash_of(value: impl std::hash::Hash) -> u64 {
+    use std::hash::Hasher;
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    value.hash(&mut h);
+    h.finish()
+}
+
+/// `stfit.<class>(alpha=..., gamma=...)`, the numbers as Python's `repr(float)` writes them.
+fn ndf_repr(py: Python<'_>, class: &str, ndf: AnyNdf) -> PyResult<String> {
+    let alpha = float_repr(py, ndf.alpha())?;
+    Ok(match ndf.gamma() {
+        Some(g) => format!("stfit.{class}(alpha={alpha}, gamma={})", float_repr(py, g)?),
+        None => format!("stfit.{class}(alpha={alpha})"),
+    })
+}
+
 /// The methods every NDF class shares, over its inner `stfit-core` NDF `self.0`.
 macro_rules! ndf_class {
-    ($class:ident, $pyname:literal, $inner:ty, ($($arg:ident),*), $make:expr, $repr:expr,
+    ($class:ident, $pyname:literal, $inner:ty, ($($arg:ident),*), $make:expr,
      { $($extra:tt)* }) => {
         #[pyclass(name = $pyname, module = "stfit", frozen)]
         #[derive(Clone, Copy)]
@@ -102,7 +153,8 @@ macro_rules! ndf_class {
         #[pymethods]
         impl $class {
             #[new]
-            fn new($($arg: f64),*) -> PyResult<Self> {
+            fn new($($arg: &Bound<'_, PyAny>),*) -> PyResult<Self> {
+                $(let $arg = float(stringify!($arg), $arg)?;)*
                 $make.map(Self).map_err(value_error)
             }
 
@@ -145,9 +197,20 @@ macro_rules! ndf_class {
 
             $($extra)*
 
-            fn __repr__(&self) -> String {
-                let n = &self.0;
-                ($repr)(n)
+            /// `stfit.<Class>(alpha=..., gamma=...)`, numbers as `repr(float)` writes them.
+            fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+                ndf_repr(py, $pyname, self.0.into())
+            }
+
+            /// Equal when of the same class with equal parameters (another class: not
+            /// implemented, so unequal).
+            fn __eq__(&self, other: &Bound<'_, Self>) -> bool {
+                params(self.0.into()) == params(other.get().0.into())
+            }
+
+            /// Consistent with `__eq__`: a hash of the class and the parameters.
+            fn __hash__(&self) -> u64 {
+                hash_of(hash_key(self.0.into()))
             }
 
             fn __reduce__<'py>(
@@ -170,7 +233,6 @@ ndf_class!(
     StudentT,
     (alpha, gamma),
     StudentT::new(alpha, gamma),
-    |n: &StudentT| format!("stfit.StudentT(alpha={}, gamma={})", n.alpha(), n.gamma()),
     {
         /// The shape gamma (> 3/2).
         #[getter]
@@ -179,22 +241,13 @@ ndf_class!(
         }
     }
 );
-ndf_class!(
-    PyGgx,
-    "Ggx",
-    Ggx,
-    (alpha),
-    Ggx::new(alpha),
-    |n: &Ggx| format!("stfit.Ggx(alpha={})", n.alpha()),
-    {}
-);
+ndf_class!(PyGgx, "Ggx", Ggx, (alpha), Ggx::new(alpha), {});
 ndf_class!(
     PyBeckmann,
     "Beckmann",
     Beckmann,
     (alpha),
     Beckmann::new(alpha),
-    |n: &Beckmann| format!("stfit.Beckmann(alpha={})", n.alpha()),
     {}
 );
 

@@ -16,6 +16,7 @@ use stfit_tables::{Shard, SpecError, Table, TableSpec};
 
 use crate::errors::{arg_error, os_error, value_error};
 use crate::ints;
+use crate::numbers::{floats, opt_float};
 
 /// An axis option: the text of `--alpha-grid` and the like (`START:END:COUNT`,
 /// `MAP:START:END:COUNT`, `v1,v2,...`) or a sequence of listed values.
@@ -26,7 +27,7 @@ fn axis(name: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Axis>> 
     if let Ok(text) = value.extract::<String>() {
         return text.parse().map(Some).map_err(|e| arg_error(name, e));
     }
-    let values: Vec<f64> = value.extract().map_err(|_| {
+    let values = floats(name, value)?.ok_or_else(|| {
         PyTypeError::new_err(format!(
             "{name}: expected an axis text such as '0.1:0.9:5' or a sequence of numbers"
         ))
@@ -54,8 +55,8 @@ fn options(
     eta_grid: Option<&Bound<'_, PyAny>>,
     side: Option<&str>,
     surface: &str,
-    n: Option<f64>,
-    k: Option<f64>,
+    n: Option<&Bound<'_, PyAny>>,
+    k: Option<&Bound<'_, PyAny>>,
     orders: &str,
     masking: &str,
     layout: Option<&str>,
@@ -70,8 +71,8 @@ fn options(
         eta_grid: axis("eta_grid", eta_grid)?,
         side: choice("side", side)?,
         surface: Choice::parse("surface", surface).map_err(value_error)?,
-        n,
-        k,
+        n: opt_float("n", n)?,
+        k: opt_float("k", k)?,
         orders: Choice::parse("orders", orders).map_err(value_error)?,
         masking: Choice::parse("masking", masking).map_err(value_error)?,
         layout: choice("layout", layout)?,
@@ -105,8 +106,8 @@ pub fn tables(
     eta_grid: Option<&Bound<'_, PyAny>>,
     side: Option<&str>,
     surface: &str,
-    n: Option<f64>,
-    k: Option<f64>,
+    n: Option<&Bound<'_, PyAny>>,
+    k: Option<&Bound<'_, PyAny>>,
     orders: &str,
     masking: &str,
     layout: Option<&str>,
@@ -167,8 +168,8 @@ pub fn table_spec(
     eta_grid: Option<&Bound<'_, PyAny>>,
     side: Option<&str>,
     surface: &str,
-    n: Option<f64>,
-    k: Option<f64>,
+    n: Option<&Bound<'_, PyAny>>,
+    k: Option<&Bound<'_, PyAny>>,
     orders: &str,
     masking: &str,
     layout: Option<&str>,

@@ -15,7 +15,8 @@ use stfit_core::walk::{
 use crate::arrays::{Dirs, Pairing, checked_copy, values};
 use crate::errors::{arg_error, value_error};
 use crate::ints;
-use crate::ndf::{any_ndf, ndf_object};
+use crate::ndf::{self, any_ndf, ndf_object};
+use crate::numbers::float_repr;
 
 /// Parses orders: `single`, `multiple` or `all`.
 pub fn orders(name: &str) -> PyResult<ScatteringOrders> {
@@ -39,8 +40,9 @@ fn walks_arg(walks: u64) -> PyResult<u64> {
 impl PyMicrosurface {
     #[new]
     #[pyo3(signature = (ndf, eta, orders = "all"))]
-    fn new(ndf: &Bound<'_, PyAny>, eta: f64, orders: &str) -> PyResult<Self> {
+    fn new(ndf: &Bound<'_, PyAny>, eta: &Bound<'_, PyAny>, orders: &str) -> PyResult<Self> {
         let n = any_ndf(ndf)?;
+        let eta = crate::numbers::float("eta", eta)?;
         let family = match n {
             AnyNdf::Beckmann(_) => NdfFamily::Beckmann,
             AnyNdf::Ggx(_) => NdfFamily::Ggx,
@@ -163,9 +165,29 @@ impl PyMicrosurface {
         Ok(format!(
             "stfit.Microsurface({}, eta={}, orders='{}')",
             ndf_object(py, self.ndf)?.repr()?,
-            self.eta,
+            float_repr(py, self.eta)?,
             self.orders.name()
         ))
+    }
+
+    /// Equal when the NDFs are equal (class and parameters), and so are `eta` and `orders`.
+    fn __eq__(&self, other: &Bound<'_, Self>) -> bool {
+        let o = other.get();
+        (ndf::key(self.ndf), self.eta, self.orders) == (ndf::key(o.ndf), o.eta, o.orders)
+    }
+
+    /// Consistent with `__eq__`.
+    fn __hash__(&self) -> u64 {
+        ndf::hash_of((ndf::hash_key(self.ndf), ndf::bits(self.eta), self.orders))
+    }
+
+    /// Pickles as its arguments: `Microsurface(ndf, eta, orders)`.
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let s = slf.get();
+        let args = (ndf_object(slf.py(), s.ndf)?, s.eta, s.orders.name())
+            .into_pyobject(slf.py())?
+            .into_any();
+        Ok((slf.get_type().into_any(), args))
     }
 }
 
@@ -209,15 +231,60 @@ impl Albedo {
     fn walks(&self) -> u64 {
         self.0.walks
     }
-    fn __repr__(&self) -> String {
-        let pm = |se: Option<f64>| se.map_or(String::new(), |se| format!(" +- {se}"));
-        format!(
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let pm = |se: Option<f64>| -> PyResult<String> {
+            se.map_or(Ok(String::new()), |se| {
+                Ok(format!(" +- {}", float_repr(py, se)?))
+            })
+        };
+        Ok(format!(
             "stfit.Albedo(reflectance={}{}, transmittance={}{}, walks={})",
-            self.0.reflectance,
-            pm(self.reflectance_stderr()),
-            self.0.transmittance,
-            pm(self.transmittance_stderr()),
+            float_repr(py, self.0.reflectance)?,
+            pm(self.reflectance_stderr())?,
+            float_repr(py, self.0.transmittance)?,
+            pm(self.transmittance_stderr())?,
             self.0.walks
-        )
+        ))
+    }
+
+    /// The estimate of its fields as `__reduce__` gives them (for pickle).
+    #[staticmethod]
+    #[allow(clippy::too_many_arguments)]
+    fn _from_state(
+        reflectance: f64,
+        transmittance: f64,
+        reflectance_stderr: f64,
+        transmittance_stderr: f64,
+        mean_bounces: Option<f64>,
+        truncated: f64,
+        walks: u64,
+    ) -> Self {
+        Self(AlbedoEstimate {
+            reflectance,
+            transmittance,
+            reflectance_stderr,
+            transmittance_stderr,
+            mean_bounces,
+            truncated,
+            walks,
+        })
+    }
+
+    /// Pickles as its fields, every number exactly.
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let a = slf.get().0;
+        let state = (
+            a.reflectance,
+            a.transmittance,
+            a.reflectance_stderr,
+            a.transmittance_stderr,
+            a.mean_bounces,
+            a.truncated,
+            a.walks,
+        );
+        Ok((
+            slf.get_type().getattr("_from_state")?,
+            state.into_pyobject(slf.py())?.into_any(),
+        ))
     }
 }

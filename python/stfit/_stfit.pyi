@@ -2,14 +2,34 @@
 
 Directions are unit vectors in the local frame (+z the macro normal, z > 0 outside with index
 1, z < 0 inside with index ``eta``), given as any array-like of shape ``(..., 3)`` of an integer
-or float dtype (booleans, complex numbers and text raise ``ValueError``, not converted); values
-come back with the leading shape, or as a float for a single direction of shape ``(3,)``. A
+or float dtype (booleans, complex numbers and text raise ``ValueError``, not converted, and so
+does a bool among numbers in nested lists, which NumPy would make 1 or 0); values come back
+with the leading shape, or as a float for a single direction of shape ``(3,)``. A
 direction with a coordinate that is not finite, whose norm differs from 1 by more than 1e-6, or
 whose z is subnormal (nonzero and below 2.2e-308 in magnitude, where 1 / |z| overflows; 0 is the
 horizon) raises ``ValueError`` naming the argument and the row. A call checks and computes on
 its own copy of the directions, made once with the GIL released: another thread writing into
 the array meanwhile changes what the call may see, but never gets an unchecked direction into
 it (no panic, no NaN).
+
+Numbers: every numeric argument (``alpha``, ``gamma``, ``eta``, ``scale``, ``noise``,
+``log_floor``, ``n``, ``k``, ``absorption``, ``walks``, ``seed``, shard numbers, and the
+elements of angle lists, axis lists and ``predict``'s angles) takes a Python int or float or a
+NumPy integer or float; a bool (``True``, ``numpy.bool_``, a bool array) raises ``ValueError``
+naming the argument (and the element's index), where it would count as 1 or 0; anything else
+that is not a number raises ``TypeError`` naming it.
+
+Masked arrays: a ``numpy.ma.MaskedArray`` with a masked element, given as directions, as a
+number sequence or as a column of ``load``, raises ``ValueError`` naming the argument and the
+first masked index (``LoadError`` at the masked row for a column): its values under the mask
+would be used. Fill (``numpy.ma.filled``) or drop (``compressed``) them first; a masked array
+with nothing masked is taken as its data.
+
+Values: reprs write numbers as ``repr(float)`` does (``stfit.Ggx(alpha=1e-08)``). NDFs,
+``RoughDielectric`` and ``Microsurface`` are immutable parameter objects: equal when of the
+same class with equal parameters (and NDFs), hashable consistently with that, and they pickle
+as their arguments. ``Dataset``, ``Albedo`` and ``FitResult`` pickle too, every number exactly;
+``Dataset`` and ``FitResult`` compare by value and are unhashable.
 """
 
 import os
@@ -48,6 +68,9 @@ class FitError(ValueError):
     message: str
 
 class _Ndf:
+    def __eq__(self, other: object) -> bool:
+        """Equal to an NDF of the same class with the same parameters."""
+    def __hash__(self) -> int: ...
     @property
     def alpha(self) -> float:
         """The roughness alpha."""
@@ -107,6 +130,9 @@ class RoughDielectric:
     side."""
 
     def __init__(self, ndf: Ndf, eta: float, masking: str = "separable") -> None: ...
+    def __eq__(self, other: object) -> bool:
+        """Equal when the NDFs, ``eta`` and ``masking`` are."""
+    def __hash__(self) -> int: ...
     @property
     def ndf(self) -> Ndf: ...
     @property
@@ -129,7 +155,8 @@ class Albedo:
     events per walk that left within the orders: the path length, which facet albedos do not
     change, since they weight a walk rather than end it; None when no walk left within the
     orders, as ``stfit albedo --json`` gives null), the fraction
-    ``truncated`` dropped at the safety cap, and ``walks``."""
+    ``truncated`` dropped at the safety cap, and ``walks``. Pickles with every number
+    exact."""
 
     reflectance: float
     transmittance: float
@@ -147,6 +174,9 @@ class Microsurface:
     gamma >= 1.501 (walk lengths diverge at 3/2): a smaller shape raises ``ValueError`` here."""
 
     def __init__(self, ndf: Ndf, eta: float, orders: str = "all") -> None: ...
+    def __eq__(self, other: object) -> bool:
+        """Equal when the NDFs, ``eta`` and ``orders`` are."""
+    def __hash__(self) -> int: ...
     @property
     def ndf(self) -> Ndf: ...
     @property
@@ -170,7 +200,12 @@ class Microsurface:
         NaN (``stfit eval`` leaves them empty)."""
 
 class Dataset:
-    """Measurements: named samples of points (angles, value ``L`` or BSDF, weight)."""
+    """Measurements: named samples of points (angles, value ``L`` or BSDF, weight). Equal
+    when the source, the sample names and every point are; unhashable; pickles with every
+    number exact (a task of a cluster can take one)."""
+
+    def __eq__(self, other: object) -> bool: ...
+    __hash__: None  # type: ignore[assignment]
 
     @property
     def source(self) -> str:
@@ -195,8 +230,8 @@ def load(source: DataSource, *, sample: Optional[str] = None) -> Dataset:
     names to arrays, or a pandas DataFrame), validated by the same rules: the names are strings,
     each column is 1-D (one value per row), the number columns (angles, ``L``, ``sqrt_L``,
     ``bsdf``, ``weight``) have an integer or float dtype (booleans, complex numbers and text are
-    refused, not converted), and a missing sample name (None, NaN, pandas' NA) is refused as an
-    empty one. Raises LoadError with the file (``<arrays>``, ``<DataFrame>`` for columns), line
+    refused, not converted), a masked array with a masked element is refused at its row, and a
+    missing sample name (None, NaN, pandas' NA) is refused as an empty one. Raises LoadError with the file (``<arrays>``, ``<DataFrame>`` for columns), line
     (row k is line k + 2) and column of the first problem."""
 
 class FitResult:
