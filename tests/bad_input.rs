@@ -658,3 +658,34 @@ fn an_output_folder_that_is_a_file_is_named_as_such() {
         );
     }
 }
+
+/// A fits file with a misspelt key in one fit (`warning` for `warnings`) is refused by `export`
+/// and `report` (exit 1, naming the file, the fit and the key), where it had read as a fit
+/// without warnings.
+#[test]
+fn a_misspelt_key_in_a_fits_file_is_refused() {
+    let dir = CaseDir::new("fits-unknown-key");
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/fits/example-fits.json");
+    let text = std::fs::read_to_string(example).unwrap();
+    let misspelt = text.replacen("\"warnings\"", "\"warning\"", 1);
+    assert_ne!(misspelt, text);
+    let fits = dir.file("fits.json", misspelt.as_bytes());
+    let f = fits.to_str().unwrap();
+    let out_dir = dir.join("out");
+    let o = out_dir.to_str().unwrap();
+    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/fits/example.csv").to_owned();
+    for args in [
+        vec!["export", f, "--to", "cycles", "--out", o],
+        vec!["report", &data, "--fits", f, "--out", o],
+    ] {
+        let out = stfit(&args);
+        assert_eq!(out.code, Some(1), "{args:?}: {}", out.stderr);
+        assert!(
+            out.stderr
+                .starts_with(&format!("error: {f}: fit 0 (sample 'frosted'"))
+                && out.stderr.contains("unknown key \"warning\""),
+            "{args:?}: {}",
+            out.stderr
+        );
+    }
+}

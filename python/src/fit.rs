@@ -390,12 +390,10 @@ impl PyFitResult {
     }
 
     /// A record from its JSON text (`to_json`), checked as a fits file checks each of its
-    /// records ([`FitResult::check`]: every number in its documented range).
+    /// records ([`FitResult::from_json`]: no unknown key, every number in its documented range).
     #[staticmethod]
     fn from_json(text: &str) -> PyResult<Self> {
-        let fit: FitResult = serde_json::from_str(text).map_err(value_error)?;
-        fit.check().map_err(value_error)?;
-        Ok(Self(fit))
+        FitResult::from_json(text).map(Self).map_err(value_error)
     }
 
     fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {

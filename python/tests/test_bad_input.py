@@ -175,11 +175,12 @@ def test_predict_in_range_is_unchanged():
     ("log_floor", 5.0, r"log_floor must be in \[1e-12, 1\]"),
     ("alpha_stderr", -1.0, "alpha_stderr must be finite and > 0"),
     ("multiple_term", "exact", "multiple_term must be null for orders single"),
+    ("warning", [], 'unknown key "warning"'),
 ])
 def test_from_json_checks_the_record_as_a_fits_file_does(key, value, text, tmp_path):
-    """FitResult.from_json refuses a record with a number outside its documented range, as
-    read_fits refuses it in a file, where it accepted it (only the model was checked) and
-    fits_json then wrote a file that read_fits refuses."""
+    """FitResult.from_json refuses a record with a number outside its documented range or a
+    key the format does not define, as read_fits refuses it in a file, where it accepted it
+    (only the model was checked) and fits_json then wrote a file that read_fits refuses."""
     import json
 
     record = {**json.loads(_ground_ggx().to_json()), key: value}

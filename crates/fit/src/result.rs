@@ -143,6 +143,19 @@ impl FitResult {
         )
     }
 
+    /// One fit from the JSON text of a record of a fits file (`fits-format.md`), checked as a
+    /// fits file checks each of its records: no key this version does not define, every number
+    /// in its documented range ([`FitResult::check`]). The message names the key or field.
+    pub fn from_json(text: &str) -> Result<Self, String> {
+        let value: serde_json::Value = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        let fit: Self = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        if let Some(reason) = unknown_fit_key(&value, &fit) {
+            return Err(reason);
+        }
+        fit.check()?;
+        Ok(fit)
+    }
+
     /// Whether the fit carries warnings (and so no standard errors).
     pub fn flagged(&self) -> bool {
         !self.warnings.is_empty()
@@ -380,15 +393,38 @@ impl FitsFile {
             _ => {}
         }
         // Parsed from the text itself, not the `Value`, so every number keeps its exact bits.
-        serde_json::from_str(text).map_err(|e| match first_unreadable_fit(&value) {
-            Some((index, label)) => FitsFileError::InvalidFit {
-                file: source.to_owned(),
-                index,
-                label,
-                reason: e.to_string(),
-            },
-            None => json(e),
-        })
+        let file: Self =
+            serde_json::from_str(text).map_err(|e| match first_unreadable_fit(&value) {
+                Some((index, label)) => FitsFileError::InvalidFit {
+                    file: source.to_owned(),
+                    index,
+                    label,
+                    reason: e.to_string(),
+                },
+                None => json(e),
+            })?;
+        if let Some(key) = unknown_key(&value, &["version", "fits"]) {
+            return Err(FitsFileError::Json(
+                source.to_owned(),
+                format!(
+                    "unknown key \"{}\" (a fits file of version {FITS_VERSION} has the keys \
+                     \"version\" and \"fits\")",
+                    crate::data::short(key)
+                ),
+            ));
+        }
+        let records = value["fits"].as_array().map_or(&[][..], Vec::as_slice);
+        for (index, (record, fit)) in records.iter().zip(&file.fits).enumerate() {
+            if let Some(reason) = unknown_fit_key(record, fit) {
+                return Err(FitsFileError::InvalidFit {
+                    file: source.to_owned(),
+                    index,
+                    label: fit.label(),
+                    reason,
+                });
+            }
+        }
+        Ok(file)
     }
 
     /// Reads stored fits from `path` ([`FitsFile::from_json`]).
@@ -400,6 +436,32 @@ impl FitsFile {
     pub fn read_unchecked(path: &Path) -> Result<Self, FitsFileError> {
         Self::from_json_unchecked(&path.display().to_string(), &read_text(path)?)
     }
+}
+
+/// The first key of the JSON object `object` that is not one of `known`.
+fn unknown_key<'v>(object: &'v serde_json::Value, known: &[&str]) -> Option<&'v str> {
+    object
+        .as_object()?
+        .keys()
+        .map(String::as_str)
+        .find(|key| !known.contains(key))
+}
+
+/// Why the record `record`, read as `fit`, has a key that a fit of this version does not
+/// define, if it has one. Such a key is refused rather than ignored: a misspelt optional key
+/// (`warning` for `warnings`, `measure` for `measured`) would otherwise read as its default and
+/// change what the fit means without a word. Every key a fit defines is written for every fit
+/// (absent values as `null`), so the keys of `fit` written back are exactly the known ones.
+fn unknown_fit_key(record: &serde_json::Value, fit: &FitResult) -> Option<String> {
+    let written = serde_json::to_value(fit).expect("fits are plain data and serialise");
+    let known: Vec<&str> = written.as_object()?.keys().map(String::as_str).collect();
+    unknown_key(record, &known).map(|key| {
+        format!(
+            "unknown key \"{}\" (fits-format.md lists the keys of a fit of version \
+             {FITS_VERSION})",
+            crate::data::short(key)
+        )
+    })
 }
 
 /// The index of the first record of `file`'s `fits` array that is not a [`FitResult`], and
@@ -488,6 +550,37 @@ mod tests {
         .unwrap();
         v["fits"][0][key] = serde_json::from_str(value).unwrap();
         v.to_string()
+    }
+
+    /// A key that a fit of this version does not define is refused, naming the fit and the
+    /// key: a misspelt optional key (`warning`, `measure`) would otherwise read as its default.
+    /// Every key a fit defines is read, and so is a file with no fits.
+    #[test]
+    fn unknown_keys_are_refused() {
+        for (key, value) in [
+            ("warning", r#"[{"kind": "singular-curvature"}]"#),
+            ("measure", r#""bsdf""#),
+        ] {
+            let err = FitsFile::from_json("f.json", &with(key, value))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.starts_with("f.json: fit 0 (sample 's', student-t): unknown key")
+                    && err.contains(&format!("\"{key}\"")),
+                "{err}"
+            );
+        }
+        let mut v: serde_json::Value = serde_json::from_str(&with("eta", "1.51")).unwrap();
+        v["comment"] = "x".into();
+        let err = FitsFile::from_json("f.json", &v.to_string())
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("unknown key \"comment\""), "{err}");
+        let full = FitsFile::from_json("f.json", &with("eta", "1.51"))
+            .unwrap()
+            .to_json();
+        assert!(FitsFile::from_json("g.json", &full).is_ok());
+        assert!(FitsFile::from_json("e.json", r#"{"version": 1, "fits": []}"#).is_ok());
     }
 
     /// Every number outside its documented range is refused when the file is read, the
