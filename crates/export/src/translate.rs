@@ -96,6 +96,45 @@ impl Reference {
     pub fn rmse(&self, target: &impl Scatter) -> f64 {
         self.mean_square(|wi, wo| target.f_cos(wi, wo)).sqrt()
     }
+
+    /// Root mean square of the fitted model's own `sqrt(L)` over the set (same weights as
+    /// [`Reference::rmse`]; at least `sqrt(f64::MIN_POSITIVE)`): the scale a translation's
+    /// rmse is relative to.
+    pub fn rms(&self) -> f64 {
+        self.energy.sqrt()
+    }
+}
+
+/// Relative size of rounding: a translation whose rmse is below this times the reference's
+/// rms ([`Reference::rms`]) is an exact mapping up to floating-point rounding.
+pub const ROUNDING: f64 = 1e-9;
+
+/// Whether `rmse` is rounding relative to a reference of rms `reference_rms` ([`ROUNDING`]):
+/// relative, so that a fit's scale (1e-12 or 1e12: `sqrt(L)` scales with `sqrt(scale)`)
+/// neither makes a real error look like rounding nor rounding look like an error.
+pub fn is_rounding(rmse: f64, reference_rms: f64) -> bool {
+    rmse <= ROUNDING * reference_rms
+}
+
+/// `x` with four decimals (`0.0123`), or with four significant digits in scientific notation
+/// where four decimals would show none (`3.2145e-9`, an rmse of a fit at scale 1e-12) or it is
+/// 1e6 or more: a small nonzero value is not printed as 0.0000.
+pub fn four_digits(x: f64) -> String {
+    if x == 0.0 || (5e-5..1e6).contains(&x.abs()) {
+        format!("{x:.4}")
+    } else {
+        format!("{x:.4e}")
+    }
+}
+
+/// An rmse of `sqrt(L)` as the comments print it: `0.0000` where it is rounding relative to
+/// the fitted model's rms `reference_rms` ([`is_rounding`]), else [`four_digits`].
+pub fn rmse_text(rmse: f64, reference_rms: f64) -> String {
+    if is_rounding(rmse, reference_rms) {
+        four_digits(0.0)
+    } else {
+        four_digits(rmse)
+    }
 }
 
 /// A family of target BSDFs with parameters in the renderer's own units.
@@ -139,6 +178,9 @@ pub struct Translation {
     pub exact_ndf: bool,
     /// Optimiser iterations (0 for an exact mapping).
     pub iterations: u64,
+    /// Root mean square of the fitted model's `sqrt(L)` over the sphere of directions
+    /// ([`Reference::rms`]): what `rmse` is relative to.
+    pub reference_rms: f64,
 }
 
 impl Translation {
@@ -155,19 +197,29 @@ impl Translation {
             "fitted over the sphere of directions (Nelder-Mead)"
         };
         format!(
-            "{how}; rmse sqrt(L): {:.4} over the sphere of directions, {:.4} over the measurement grid",
-            self.rmse, self.rmse_measured_grid
+            "{how}; rmse sqrt(L): {} over the sphere of directions, {} over the measurement grid",
+            rmse_text(self.rmse, self.reference_rms),
+            rmse_text(self.rmse_measured_grid, self.reference_rms)
         )
     }
 
+    /// Whether the rmse is rounding relative to the fitted model's own values
+    /// ([`is_rounding`]).
+    pub fn exact_to_rounding(&self) -> bool {
+        is_rounding(self.rmse, self.reference_rms)
+    }
+
     /// One line per parameter: value, rmse growth per unit and the change for +10% rmse (none
-    /// where the mapping's rmse is rounding, below 1e-9: 10% of it means nothing).
+    /// where the mapping's rmse is rounding ([`Translation::exact_to_rounding`]): 10% of it
+    /// means nothing).
     pub fn sensitivity_lines(&self) -> Vec<String> {
         self.params
             .iter()
             .map(|p| {
                 let ten = match p.change_for_10pct {
-                    _ if self.rmse < 1e-9 => "- (the mapping is exact to rounding)".to_string(),
+                    _ if self.exact_to_rounding() => {
+                        "- (the mapping is exact to rounding)".to_string()
+                    }
                     Some(d) => format!("{d:.3e}"),
                     None => "-".to_string(),
                 };
@@ -257,6 +309,7 @@ pub fn evaluate<F: Family>(
         rmse_measured_grid: grid_rmse(model, &bsdf, &measured_grid())?,
         exact_ndf: true,
         iterations: 0,
+        reference_rms: reference.rms(),
     })
 }
 
@@ -309,6 +362,7 @@ pub fn fit<F: Family>(
         rmse_measured_grid: grid_rmse(model, &bsdf, &measured_grid())?,
         exact_ndf: false,
         iterations,
+        reference_rms: reference.rms(),
     })
 }
 

@@ -552,3 +552,49 @@ fn find<'a>(
         .find(|f| f.sample == sample && f.model.kind == kind && !f.model.gamma.is_fixed())
         .unwrap()
 }
+
+/// "Exact to rounding" is relative to the fit's own values: `sqrt(L)` scales with
+/// `sqrt(scale)`, so at scale 1e-12 a real masking error (Cycles' Lambda sum for a separable
+/// GGX fit at alpha 0.02, rmse 9e-12 there, which the absolute threshold 1e-9 called rounding)
+/// is not called rounding, and at 1e12 Mitsuba's exact mapping (rmse 1e-10) is; the reported error
+/// relative to the fit's rms is the same at every scale, and no rmse is printed as 0.0000 when
+/// it is not rounding.
+#[test]
+fn exact_to_rounding_is_relative_to_the_fit_scale() {
+    const ALPHA: f64 = 0.02;
+    let at = |scale: f64, t: Target| {
+        let m = ExportModel::new(
+            Model::single(ModelKind::Ggx, ALPHA, Gamma::NotApplicable, scale),
+            "test fit",
+        )
+        .unwrap();
+        targets::export(t, &m, "g").unwrap()
+    };
+    let relative = |e: &targets::Export| {
+        let t = e.translation.as_ref().unwrap();
+        t.rmse / t.reference_rms
+    };
+    let cycles_at_1 = relative(&at(1.0, Target::Cycles));
+    for scale in [1e-12, 1e12] {
+        let cycles = at(scale, Target::Cycles);
+        let t = cycles.translation.as_ref().unwrap();
+        assert!(!t.exact_to_rounding(), "{scale}: {t:?}");
+        assert!(
+            (relative(&cycles) / cycles_at_1 - 1.0).abs() < 1e-6,
+            "{scale}: {} vs {cycles_at_1}",
+            relative(&cycles)
+        );
+        let text = &cycles.files[0].text;
+        assert!(
+            !text.contains("exact to rounding") && !text.contains("rmse sqrt(L): 0.0000"),
+            "{scale}: {text}"
+        );
+        let mitsuba = at(scale, Target::Mitsuba3);
+        let t = mitsuba.translation.as_ref().unwrap();
+        assert!(t.exact_to_rounding(), "{scale}: {t:?}");
+        assert!(
+            mitsuba.files[0].text.contains("exact to rounding"),
+            "{scale}"
+        );
+    }
+}
