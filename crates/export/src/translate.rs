@@ -15,9 +15,10 @@ use stfit_fit::Optimizer;
 use stfit_fit::conventions::pair_from_deg;
 use stfit_fit::optimize::minimize;
 
-use crate::directions::{SphereSet, l_of, l_per_bsdf};
+use crate::directions::{SphereSet, l_of, l_per_bsdf, resolved};
 use crate::target::Scatter;
 use crate::{ExportError, ExportModel};
+use stfit_core::bsdf::AnalyticBsdf;
 
 /// The fitted model's `sqrt(L)` over a [`SphereSet`], computed once per export.
 #[derive(Debug, Clone)]
@@ -25,10 +26,12 @@ pub struct Reference {
     set: SphereSet,
     eta: f64,
     scale: f64,
-    /// `sqrt(L)` per incidence direction, per outgoing direction.
+    /// `sqrt(L)` per incidence direction (row of the set), per outgoing direction.
     sqrt_l: Vec<Vec<f64>>,
     /// Mean square of `sqrt(L)`: normalises the optimiser's cost to the order of 1.
     energy: f64,
+    /// Incidences whose lobes even graded directions do not resolve ([`resolved`]).
+    warnings: Vec<String>,
 }
 
 impl Reference {
@@ -37,20 +40,23 @@ impl Reference {
     pub fn new(model: &ExportModel, set: SphereSet) -> Result<Self, ExportError> {
         let eta = model.eta();
         let pairs: Vec<(Vec3, Vec3)> = set
-            .incidences
+            .rows
             .iter()
-            .flat_map(|&wi| set.outgoing.iter().map(move |&wo| (wi, wo)))
+            .flat_map(|row| row.outgoing.iter().map(move |&wo| (row.wi, wo)))
             .collect();
         let q = pairs
             .iter()
             .map(|&(wi, wo)| l_per_bsdf(wi, wo, eta))
             .collect();
-        let values = model.forward_values(&pairs, q)?;
-        let sqrt_l = values
-            .chunks(set.outgoing.len())
+        let mut values = model.forward_values(&pairs, q)?.into_iter();
+        let sqrt_l = set
+            .rows
+            .iter()
             .map(|row| {
-                row.iter()
-                    .map(|&v| (model.scale() * v).max(0.0).sqrt())
+                values
+                    .by_ref()
+                    .take(row.outgoing.len())
+                    .map(|v| (model.scale() * v).max(0.0).sqrt())
                     .collect()
             })
             .collect();
@@ -60,28 +66,43 @@ impl Reference {
             scale: model.scale(),
             sqrt_l,
             energy: 1.0,
+            warnings: Vec::new(),
         };
         r.energy = r.mean_square(|_, _| 0.0).max(f64::MIN_POSITIVE);
         Ok(r)
     }
 
-    /// The fitted model's values over the standard set.
+    /// The fitted model's values over the standard set, with outgoing directions graded about
+    /// the peaks for the incidences whose lobes the standard nodes do not resolve
+    /// ([`resolved`], judged on the model's single scattering, whose lobes are the narrow
+    /// ones).
     pub fn standard(model: &ExportModel) -> Result<Self, ExportError> {
-        Self::new(model, SphereSet::standard())
+        let single = model.single();
+        let (set, warnings) = resolved(|wi, wo| single.f_cos(wi, wo), model.eta(), model.alpha());
+        let mut r = Self::new(model, set)?;
+        r.warnings = warnings;
+        Ok(r)
     }
 
-    /// Mean square difference between `sqrt(L)` of `f_cos` and the reference.
+    /// Warnings for the export: incidences whose lobes even graded outgoing directions do not
+    /// resolve, where the translation's error is uncertain.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// Mean square difference between `sqrt(L)` of `f_cos` and the reference: per incidence
+    /// the weighted mean over its outgoing directions, then the mean over incidences.
     fn mean_square(&self, f_cos: impl Fn(Vec3, Vec3) -> f64 + Sync) -> f64 {
-        let total_w: f64 = self.set.weights.iter().sum();
         let per_incidence: Vec<f64> = self
             .set
-            .incidences
+            .rows
             .par_iter()
             .zip(&self.sqrt_l)
-            .map(|(&wi, refs)| {
+            .map(|(row, refs)| {
+                let total_w: f64 = row.weights.iter().sum();
                 let mut s = 0.0;
-                for ((&wo, &w), &r) in self.set.outgoing.iter().zip(&self.set.weights).zip(refs) {
-                    let v = l_of(f_cos(wi, wo), wi, wo, self.eta, self.scale)
+                for ((&wo, &w), &r) in row.outgoing.iter().zip(&row.weights).zip(refs) {
+                    let v = l_of(f_cos(row.wi, wo), row.wi, wo, self.eta, self.scale)
                         .max(0.0)
                         .sqrt();
                     s += w * (v - r) * (v - r);

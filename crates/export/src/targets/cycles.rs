@@ -51,7 +51,8 @@ fn family(ndf: Family1, eta: f64) -> Microfacet {
 
 /// Writes the script.
 pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Export, ExportError> {
-    let mut warnings = Vec::new();
+    // The reference's own warnings first: incidences it does not resolve.
+    let mut warnings = reference.warnings().to_vec();
     let ggx = translate_microfacet(
         &family(Family1::Ggx, model.eta()),
         model,

@@ -105,7 +105,8 @@ impl Family for Haze {
 
 /// Writes the MaterialX document.
 pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Export, ExportError> {
-    let mut warnings = Vec::new();
+    // The reference's own warnings first: incidences it does not resolve.
+    let mut warnings = reference.warnings().to_vec();
     let single = Microfacet {
         ndf: Family1::Ggx,
         eta: model.eta(),
