@@ -634,3 +634,30 @@ fn near_smooth_translation_recovers_alpha() {
         );
     }
 }
+
+/// An all-orders fit is translated against its full BSDF, higher orders included; Blender 4's
+/// Multiscatter GGX scales the single-scattering lobe by its inverse albedo, which would add
+/// them a second time: the Cycles script uses single-scattering GGX for both nodes and says
+/// why.
+#[test]
+fn all_orders_fits_are_not_multiscattered_twice_in_cycles() {
+    let m = ExportModel::new(
+        Model {
+            masking: stfit_core::bsdf::Masking::Correlated,
+            orders: stfit_core::ScatteringOrders::All,
+            walks: Some(16),
+            seed: Some(1),
+            ..Model::single(ModelKind::Ggx, 0.3, Gamma::NotApplicable, 1.0)
+        },
+        "all-orders test fit",
+    )
+    .unwrap();
+    let text = &targets::export(Target::Cycles, &m, "a").unwrap().files[0].text;
+    assert!(!text.contains("MULTI_GGX"), "{text}");
+    assert!(
+        text.contains("glass.distribution = 'GGX'")
+            && text.contains("bsdf.distribution = 'GGX'")
+            && text.contains("would add the higher orders a second time"),
+        "{text}"
+    );
+}
