@@ -58,8 +58,8 @@ pub struct Refused {
     pub error: ExportError,
 }
 
-/// One selected fit: its export, or why it was refused.
-pub type Item = Result<FitExport, Refused>;
+/// One selected fit: its export, or why it was refused (boxed: the refusal is the larger).
+pub type Item = Result<FitExport, Box<Refused>>;
 
 /// The exports of a set of fits and the texts they make at their destination. A refused fit
 /// is an item like the others ([`Refused`]): the texts hold the exports that were made, and
@@ -81,7 +81,9 @@ impl Batch {
 
     /// The refused fits, in the order of the fits.
     pub fn refused(&self) -> impl Iterator<Item = &Refused> {
-        self.items.iter().filter_map(|i| i.as_ref().err())
+        self.items
+            .iter()
+            .filter_map(|i| i.as_ref().err().map(|r| &**r))
     }
 
     /// `N of M exports refused`, or `None` when every export was made.
@@ -145,12 +147,12 @@ pub fn export_fits(
             let id = fit_identifier(fit);
             match export_fit(fit, target, radiance) {
                 Ok(export) => Ok(FitExport { id, export }),
-                Err(error) => Err(Refused {
+                Err(error) => Err(Box::new(Refused {
                     label: fit.label(),
                     id,
                     target: target.name(),
                     error,
-                }),
+                })),
             }
         })
         .collect();

@@ -253,10 +253,13 @@ pub fn graded_row(wi: Vec3, eta: f64, alpha: f64, refine: usize) -> Row {
     }
 }
 
+/// Quadrature nodes `(angle, weight)` along one angle.
+type Nodes = Vec<(f64, f64)>;
+
 /// The nodes `(theta, weight)` and `(phi, weight)` of one hemisphere of the standard product
 /// rule: `n_theta` Gauss-Legendre nodes on `theta` in `(0, pi/2)` and the midpoint rule with
 /// `n_phi` nodes on `phi` in `[0, pi]`.
-fn uniform_nodes(n_theta: usize, n_phi: usize) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+fn uniform_nodes(n_theta: usize, n_phi: usize) -> (Nodes, Nodes) {
     let theta = GaussLegendre::new(n_theta)
         .points()
         .map(|(x, w)| (HALF_PI * 0.5 * (1.0 + x), HALF_PI * 0.5 * w))
