@@ -606,3 +606,65 @@ fn a_long_radiance_export_is_announced_before_it_runs() {
     assert_eq!(quick.code, Some(0), "{}", quick.stderr);
     assert!(!quick.stderr.contains("note:"), "{}", quick.stderr);
 }
+
+/// appleseed refuses an eta above 2.5: that fit's refusal is printed on its own line, naming
+/// the file, the fit and the target, the other fits are written (to stdout and to a folder
+/// alike), and the command exits 1 with the count of refusals on its last line.
+#[test]
+fn a_refused_fit_does_not_stop_the_others() {
+    let dir = CaseDir::new("export-refused");
+    let mut file = example_file();
+    file.fits.retain(|f| f.model.kind.name() == "ggx");
+    for (fit, (sample, eta)) in file
+        .fits
+        .iter_mut()
+        .zip([("a", 1.51), ("b", 2.8), ("c", 1.5)])
+    {
+        fit.sample = sample.into();
+        fit.model.eta = eta;
+    }
+    let path = dir.file("mixed.json", file.to_json());
+    let fits = path.to_str().unwrap();
+    let check_stderr = |stderr: &str| {
+        let refusal = format!("error: {fits}: sample 'b', ggx to appleseed: ");
+        assert!(
+            stderr
+                .lines()
+                .any(|l| l.starts_with(&refusal) && l.contains("eta 2.8")),
+            "{stderr}"
+        );
+        assert_eq!(
+            stderr.lines().last(),
+            Some("error: 1 of 3 exports refused"),
+            "{stderr}"
+        );
+    };
+    let run = cli().run(&["export", fits, "--to", "appleseed"]);
+    assert_eq!(run.code, Some(1), "{}", run.stderr);
+    check_stderr(&run.stderr);
+    assert!(
+        run.stdout.contains("name=\"a_ggx\"")
+            && run.stdout.contains("name=\"c_ggx\"")
+            && !run.stdout.contains("b_ggx"),
+        "{}",
+        run.stdout
+    );
+    let out = dir.join("out");
+    std::fs::create_dir(&out).unwrap();
+    let run = cli().run(&[
+        "export",
+        fits,
+        "--to",
+        "appleseed",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.code, Some(1), "{}", run.stderr);
+    check_stderr(&run.stderr);
+    let mut written: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
+    assert_eq!(written, ["a_ggx-appleseed.xml", "c_ggx-appleseed.xml"]);
+}

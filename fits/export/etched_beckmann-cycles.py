@@ -4,7 +4,7 @@
 # Cycles Principled BSDF, white with Transmission Weight 1 and white Specular Tint: the same GGX glass closure, real dielectric Fresnel (closure.h, bsdf_microfacet.h)
 # translation: NDF mapped exactly; error from the renderer's masking term; rmse sqrt(L): 0.0035 over the sphere of directions, 0.0007 over the measurement grid
 # sensitivity: Roughness = 0.720665: rmse grows 9.626e-1 sqrt(L) per unit; change for +10% rmse 1.676e-3
-# Principled BSDF (GGX): Roughness 0.663008863637257, fitted over the sphere of directions (Nelder-Mead); rmse sqrt(L): 0.1017 over the sphere of directions, 0.1694 over the measurement grid
+# Principled BSDF (GGX): Roughness 0.6630088650707717, fitted over the sphere of directions (Nelder-Mead); rmse sqrt(L): 0.1017 over the sphere of directions, 0.1694 over the measurement grid
 import bpy
 
 def etched_beckmann_glass():
@@ -27,7 +27,7 @@ def etched_beckmann_principled():
     bsdf.distribution = 'GGX'
     bsdf.inputs["Base Color"].default_value = (1.0, 1.0, 1.0, 1.0)
     bsdf.inputs["Metallic"].default_value = 0.0
-    bsdf.inputs["Roughness"].default_value = 0.663008863637257
+    bsdf.inputs["Roughness"].default_value = 0.6630088650707717
     bsdf.inputs["IOR"].default_value = 1.51
     bsdf.inputs["Transmission Weight"].default_value = 1.0
     bsdf.inputs["Specular Tint"].default_value = (1.0, 1.0, 1.0, 1.0)

@@ -2,9 +2,9 @@
 # fitted model: ggx alpha 0.1901288243200893, eta 1.51, separable masking, orders single; the fit's scale 0.9997120509270278 is a calibration factor, not applied
 # Cycles Glass BSDF: alpha = Roughness^2 (intern/cycles/kernel/svm/closure.h)
 # Cycles Principled BSDF, white with Transmission Weight 1 and white Specular Tint: the same GGX glass closure, real dielectric Fresnel (closure.h, bsdf_microfacet.h)
-# translation: NDF mapped exactly; error from the renderer's masking term; rmse sqrt(L): 0.0032 over the sphere of directions, 0.0004 over the measurement grid
-# sensitivity: Roughness = 0.436038: rmse grows 1.570e0 sqrt(L) per unit; change for +10% rmse 9.302e-4
-# Principled BSDF (GGX): Roughness 0.4360376409440925, NDF mapped exactly; error from the renderer's masking term; rmse sqrt(L): 0.0032 over the sphere of directions, 0.0004 over the measurement grid
+# translation: NDF mapped exactly; error from the renderer's masking term; rmse sqrt(L): 0.0042 over the sphere of directions, 0.0004 over the measurement grid
+# sensitivity: Roughness = 0.436038: rmse grows 1.577e0 sqrt(L) per unit; change for +10% rmse 1.207e-3
+# Principled BSDF (GGX): Roughness 0.4360376409440925, NDF mapped exactly; error from the renderer's masking term; rmse sqrt(L): 0.0042 over the sphere of directions, 0.0004 over the measurement grid
 import bpy
 
 def frosted_ggx_glass():

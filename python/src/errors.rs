@@ -22,6 +22,16 @@ pyo3::create_exception!(
      Attributes: `file`, `sample`, `model` and `message`."
 );
 
+pyo3::create_exception!(
+    stfit,
+    ExportError,
+    PyValueError,
+    "Some selected fits could not be exported; the others were. Attributes: `refused` (list \
+     of str, one per refused fit: `sample 'x', ggx to appleseed: reason`), `written` (list of \
+     pathlib.Path: the files written, empty without `out`) and `text` (str: without `out`, the \
+     text of the exports made; None with `out`)."
+);
+
 /// Any displayable error as a `ValueError`.
 pub fn value_error(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
@@ -95,6 +105,29 @@ fn load_error_with(
         v.setattr("line", line)?;
         v.setattr("column", column)?;
         v.setattr("message", message)
+    };
+    match set() {
+        Ok(()) => err,
+        Err(other) => other,
+    }
+}
+
+/// A `stfit.ExportError` for a batch with refused fits: `message` (the count, and one line
+/// per refusal), `refused` (the refusals' texts), `written` (the paths written) and `text`
+/// (the text of the exports made, where no file was written).
+pub fn export_error(
+    py: Python<'_>,
+    message: String,
+    refused: Vec<String>,
+    written: Vec<std::path::PathBuf>,
+    text: Option<String>,
+) -> PyErr {
+    let err = ExportError::new_err(message);
+    let set = || -> PyResult<()> {
+        let v = err.value(py);
+        v.setattr("refused", refused)?;
+        v.setattr("written", written)?;
+        v.setattr("text", text)
     };
     match set() {
         Ok(()) => err,

@@ -9,7 +9,7 @@ use stfit_export::radiance::{LayerKind, QuadratureRule, RadianceOptions};
 use stfit_export::{BatchError, Destination, Selection, Target, export_fits, radiance_walks_apply};
 use stfit_fit::{FitResult, FitsFile, ModelKind};
 
-use crate::errors::{arg_error, os_error, value_error};
+use crate::errors::{arg_error, export_error, os_error, value_error};
 use crate::fit::PyFitResult;
 
 /// The target named as on the command line (`--to`).
@@ -91,7 +91,10 @@ fn type_error() -> PyErr {
 /// `absorption`, `walks` and `seed` are the options of `radiance` (defaults: the pane, no
 /// absorption, 65,536 walks per patch, seed 1), refused with another target, and `walks` and
 /// `seed` where nothing walks, even at their default values, as on the command line. Clamps and
-/// other departures from the fit become Python warnings.
+/// other departures from the fit become Python warnings. A fit whose export is refused does not
+/// stop the others: they are written (or their text made), then `stfit.ExportError` is raised
+/// with the refusals (`refused`, each naming the file, fit and target), the paths `written`
+/// and, without `out`, the `text` of the exports made.
 #[pyfunction]
 #[pyo3(signature = (fits, to, *, sample = None, model = None, out = None, layer = None,
     absorption = None, walks = None, seed = None))]
@@ -161,17 +164,38 @@ pub fn export(
             (e, None) => value_error(e),
         })?;
     let warn = py.import("warnings")?;
-    for e in &batch.exports {
+    for e in batch.exports() {
         for w in &e.export.warnings {
             warn.call_method1("warn", (format!("{}: {w}", e.id),))?;
         }
     }
+    let refused: Vec<String> = batch.refused().map(|r| r.to_string()).collect();
+    let summary = batch.refusal_summary();
+    // The refusals of a fits file name it, as the command line's lines do.
+    let refusal_error = |written: Vec<PathBuf>, text: Option<String>| {
+        let lines: Vec<String> = refused
+            .iter()
+            .map(|r| match &file {
+                Some(path) => format!("{}: {r}", path.display()),
+                None => r.clone(),
+            })
+            .collect();
+        let message = format!(
+            "{}:\n{}",
+            summary.clone().unwrap_or_default(),
+            lines.join("\n")
+        );
+        export_error(py, message, lines, written, text)
+    };
     if out.is_none() {
         let text = batch
             .outputs
             .into_iter()
             .map(|o| o.text)
             .collect::<String>();
+        if summary.is_some() {
+            return Err(refusal_error(Vec::new(), Some(text)));
+        }
         return Ok(text.into_pyobject(py)?.into_any().unbind());
     }
     let mut written = Vec::with_capacity(batch.outputs.len());
@@ -182,6 +206,9 @@ pub fn export(
         std::fs::write(&path, &o.text)
             .map_err(|e| os_error(format!("{}: cannot write: {e}", path.display())))?;
         written.push(path);
+    }
+    if summary.is_some() {
+        return Err(refusal_error(written, None));
     }
     Ok(written.into_pyobject(py)?.into_any().unbind())
 }

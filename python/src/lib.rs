@@ -22,6 +22,7 @@ fn _stfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("LoadError", m.py().get_type::<errors::LoadError>())?;
     m.add("FitError", m.py().get_type::<errors::FitError>())?;
+    m.add("ExportError", m.py().get_type::<errors::ExportError>())?;
     m.add_class::<ndf::PyStudentT>()?;
     m.add_class::<ndf::PyGgx>()?;
     m.add_class::<ndf::PyBeckmann>()?;

@@ -67,6 +67,18 @@ class FitError(ValueError):
     model: str
     message: str
 
+class ExportError(ValueError):
+    """Some selected fits could not be exported; the others were.
+
+    ``refused``: one text per refused fit, ``FILE: sample 'x', ggx to appleseed: reason`` (the
+    file where the fits came from one); ``written``: the paths written (empty without
+    ``out``); ``text``: without ``out``, the text of the exports that were made, else None.
+    """
+
+    refused: list[str]
+    written: list[pathlib.Path]
+    text: Optional[str]
+
 class _Ndf:
     def __eq__(self, other: object) -> bool:
         """Equal to an NDF of the same class with the same parameters."""
@@ -401,7 +413,9 @@ def export(
     default 65,536; ``seed``: their seed, default 1. Given with another target they raise
     ``ValueError``, and so do ``walks`` and ``seed`` where nothing walks (the interface of
     single-scattering fits), as on the command line. Clamps and other departures from the fit are issued as warnings; a bad option or
-    fit raises ``ValueError``, an unreadable file ``OSError``."""
+    fit raises ``ValueError``, an unreadable file ``OSError``. A fit whose export the target
+    refuses (appleseed's ior range, say) does not stop the others: they are written, then
+    ``ExportError`` is raised with ``refused``, ``written`` and ``text``."""
 
 AxisLike = Union[str, Sequence[float]]
 

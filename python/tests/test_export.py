@@ -128,3 +128,32 @@ def test_bad_fits_raise(at_repo, tmp_path):
     with pytest.raises(OSError):
         stfit.export(FITS, to="pbrt-v4", model="ggx", sample="ground",
                      out=tmp_path / "no" / "such" / "folder.pbrt")
+
+
+def test_a_refused_fit_does_not_stop_the_others(at_repo, tmp_path):
+    """appleseed refuses eta 2.8: ExportError names that fit, the others are written."""
+    import json
+
+    doc = json.loads(pathlib.Path(FITS).read_text())
+    doc["fits"] = [f for f in doc["fits"] if f["model"] == "ggx"]
+    for f, (sample, eta) in zip(doc["fits"], [("a", 1.51), ("b", 2.8), ("c", 1.5)]):
+        f["sample"], f["eta"] = sample, eta
+    mixed = tmp_path / "mixed.json"
+    mixed.write_text(json.dumps(doc))
+    out = tmp_path / "out"
+    out.mkdir()
+    with pytest.raises(stfit.ExportError, match="1 of 3 exports refused") as e:
+        stfit.export(mixed, to="appleseed", out=out)
+    assert isinstance(e.value, ValueError)
+    assert len(e.value.refused) == 1
+    assert e.value.refused[0].startswith(f"{mixed}: sample 'b', ggx to appleseed: ")
+    assert "eta 2.8" in e.value.refused[0]
+    names = sorted(pathlib.Path(p).name for p in e.value.written)
+    assert names == ["a_ggx-appleseed.xml", "c_ggx-appleseed.xml"]
+    assert sorted(p.name for p in out.iterdir()) == names
+    assert e.value.text is None
+    with pytest.raises(stfit.ExportError) as e:
+        stfit.export(mixed, to="appleseed")
+    assert e.value.written == []
+    assert 'name="a_ggx"' in e.value.text and 'name="c_ggx"' in e.value.text
+    assert "b_ggx" not in e.value.text

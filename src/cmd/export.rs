@@ -115,7 +115,9 @@ pub enum LayerArg {
     Interface,
 }
 
-/// Runs `stfit export`. `given` lists the Radiance flags given on the command line: refused
+/// Runs `stfit export`. A fit whose export is refused is reported on its own line (`error:
+/// FILE: sample 'x', ggx to appleseed: reason`) while the others are written; the command then
+/// fails (exit 1) with `N of M exports refused`. `given` lists the Radiance flags given on the command line: refused
 /// with another target, even at their default values.
 pub fn run(args: &Args, given: &[String]) -> CmdResult {
     args.retired.check()?;
@@ -207,12 +209,18 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
     }
     let batch =
         export_fits(&file.fits, &selection, target, &radiance, dest).map_err(batch_error)?;
-    for FitExport { id, export } in &batch.exports {
-        for w in &export.warnings {
-            eprintln!("warning: {id}: {w}");
-        }
-        if let Some(t) = &export.translation {
-            eprintln!("{id}: {}", t.summary());
+    for item in &batch.items {
+        match item {
+            Ok(FitExport { id, export }) => {
+                for w in &export.warnings {
+                    eprintln!("warning: {id}: {w}");
+                }
+                if let Some(t) = &export.translation {
+                    eprintln!("{id}: {}", t.summary());
+                }
+            }
+            // Each refusal on its own line; the others are written below, then the count.
+            Err(refused) => eprintln!("error: {}: {refused}", args.fits.display()),
         }
     }
     // Every file written, those beside a file or inside a folder included, before any is.
@@ -230,5 +238,8 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
             None => print_stdout(&out.text)?,
         }
     }
-    Ok(())
+    match batch.refusal_summary() {
+        Some(summary) => Err(failed(summary)),
+        None => Ok(()),
+    }
 }

@@ -43,13 +43,54 @@ pub struct Output {
     pub text: String,
 }
 
-/// The exports of a set of fits and the texts they make at their destination.
+/// A selected fit whose export was refused (an appleseed glass beyond its ior range, a pane
+/// of a gamma the walks cannot take): one item of a [`Batch`], which the other fits' exports
+/// do not depend on. Displayed as `sample 'x', ggx to appleseed: reason`.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("{label} to {target}: {error}")]
+pub struct Refused {
+    /// The fit's [`FitResult::label`].
+    pub label: String,
+    /// The fit's identifier ([`fit_identifier`]).
+    pub id: String,
+    /// The target's command-line name ([`Target::name`]).
+    pub target: &'static str,
+    pub error: ExportError,
+}
+
+/// One selected fit: its export, or why it was refused (boxed: the refusal is the larger).
+pub type Item = Result<FitExport, Box<Refused>>;
+
+/// The exports of a set of fits and the texts they make at their destination. A refused fit
+/// is an item like the others ([`Refused`]): the texts hold the exports that were made, and
+/// the front end reports the refusals.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Batch {
-    /// In the order of the fits.
-    pub exports: Vec<FitExport>,
-    /// In the order of writing.
+    /// One per selected fit, in the order of the fits.
+    pub items: Vec<Item>,
+    /// The texts of the exports made, in the order of writing; none when every fit was
+    /// refused.
     pub outputs: Vec<Output>,
+}
+
+impl Batch {
+    /// The exports made, in the order of the fits.
+    pub fn exports(&self) -> impl Iterator<Item = &FitExport> {
+        self.items.iter().filter_map(|i| i.as_ref().ok())
+    }
+
+    /// The refused fits, in the order of the fits.
+    pub fn refused(&self) -> impl Iterator<Item = &Refused> {
+        self.items
+            .iter()
+            .filter_map(|i| i.as_ref().err().map(|r| &**r))
+    }
+
+    /// `N of M exports refused`, or `None` when every export was made.
+    pub fn refusal_summary(&self) -> Option<String> {
+        let n = self.refused().count();
+        (n > 0).then(|| format!("{n} of {} exports refused", self.items.len()))
+    }
 }
 
 /// Why a set of fits could not be exported.
@@ -84,9 +125,6 @@ pub enum BatchError {
         first: &'static str,
         other: &'static str,
     },
-    /// The export of one fit failed; `label` is the fit's [`FitResult::label`].
-    #[error("{label}: {error}")]
-    Fit { label: String, error: ExportError },
 }
 
 /// Exports every fit of `fits` that `selection` matches to `target` (`radiance`: the options
@@ -103,21 +141,24 @@ pub fn export_fits(
     dest: Destination<'_>,
 ) -> Result<Batch, BatchError> {
     let selected = select_fits(fits, selection, target, dest)?;
-    let exports = selected
+    let items: Vec<Item> = selected
         .into_iter()
         .map(|fit| {
-            let export = export_fit(fit, target, radiance).map_err(|error| BatchError::Fit {
-                label: fit.label(),
-                error,
-            })?;
-            Ok(FitExport {
-                id: fit_identifier(fit),
-                export,
-            })
+            let id = fit_identifier(fit);
+            match export_fit(fit, target, radiance) {
+                Ok(export) => Ok(FitExport { id, export }),
+                Err(error) => Err(Box::new(Refused {
+                    label: fit.label(),
+                    id,
+                    target: target.name(),
+                    error,
+                })),
+            }
         })
-        .collect::<Result<Vec<_>, _>>()?;
-    let outputs = outputs(&exports, target, dest)?;
-    Ok(Batch { exports, outputs })
+        .collect();
+    let made: Vec<FitExport> = items.iter().filter_map(|i| i.clone().ok()).collect();
+    let outputs = outputs(&made, target, dest)?;
+    Ok(Batch { items, outputs })
 }
 
 /// Whether the walks of [`RadianceOptions`] (walks per patch and their seed) enter the Radiance
@@ -185,6 +226,9 @@ fn outputs(
     target: Target,
     dest: Destination<'_>,
 ) -> Result<Vec<Output>, BatchError> {
+    if exports.is_empty() {
+        return Ok(Vec::new());
+    }
     let joined = || join(&exports.iter().map(|e| e.export.clone()).collect::<Vec<_>>());
     Ok(match dest {
         Destination::Stdout => vec![Output {
@@ -257,6 +301,63 @@ mod tests {
             &RadianceOptions::default(),
             dest,
         )
+    }
+
+    /// The example's frosted GGX fit (an exact mapping for appleseed) as sample `sample` with
+    /// eta `eta`.
+    fn ggx_fit(sample: &str, eta: f64) -> FitResult {
+        let text = include_str!("../../../fits/example-fits.json");
+        let mut fit = stfit_fit::FitsFile::from_json("example", text)
+            .unwrap()
+            .fits
+            .into_iter()
+            .find(|f| f.model.kind == stfit_fit::ModelKind::Ggx)
+            .unwrap();
+        fit.sample = sample.into();
+        fit.model.eta = eta;
+        fit
+    }
+
+    /// appleseed refuses an eta above 2.5: that fit is a refused item, named with its target
+    /// and reason, and the fits before and after it are exported and laid out, to one text and
+    /// to a folder alike; a batch whose every fit is refused has no output.
+    #[test]
+    fn a_refused_fit_does_not_stop_the_others() {
+        let fits = [ggx_fit("a", 1.51), ggx_fit("b", 2.8), ggx_fit("c", 1.5)];
+        let all = Selection::default();
+        let opts = RadianceOptions::default();
+        let appleseed = |fits: &[FitResult], dest| {
+            export_fits(fits, &all, Target::Appleseed, &opts, dest).unwrap()
+        };
+        for dest in [Destination::Stdout, Destination::Folder(Path::new("out"))] {
+            let batch = appleseed(&fits, dest);
+            let made: Vec<&str> = batch.exports().map(|e| e.id.as_str()).collect();
+            assert_eq!(made, ["a_ggx", "c_ggx"]);
+            let refused: Vec<String> = batch.refused().map(|r| r.to_string()).collect();
+            assert_eq!(refused.len(), 1);
+            assert!(
+                refused[0].starts_with("sample 'b', ggx to appleseed: ")
+                    && refused[0].contains("eta 2.8"),
+                "{}",
+                refused[0]
+            );
+            assert_eq!(
+                batch.refusal_summary().as_deref(),
+                Some("1 of 3 exports refused")
+            );
+            let text: String = batch.outputs.iter().map(|o| o.text.as_str()).collect();
+            assert!(
+                text.contains("name=\"a_ggx\"") && text.contains("name=\"c_ggx\""),
+                "{text}"
+            );
+            assert!(!text.contains("b_ggx"), "{text}");
+        }
+        let batch = appleseed(&fits[1..2], Destination::Stdout);
+        assert!(batch.outputs.is_empty() && batch.exports().next().is_none());
+        assert_eq!(
+            batch.refusal_summary().as_deref(),
+            Some("1 of 1 exports refused")
+        );
     }
 
     /// Samples whose names differ only outside [A-Za-z0-9] would write the same file: refused

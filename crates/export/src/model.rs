@@ -36,9 +36,9 @@ impl ExportModel {
     pub fn from_fit(fit: &FitResult) -> Result<Self, ExportError> {
         let data = escape_control(fit.data.as_deref().unwrap_or("data not from a file"));
         let source = format!(
-            "{}, rmse sqrt(L) {:.4} over {} points of {data}, fitted by stfit {}",
+            "{}, rmse sqrt(L) {} over {} points of {data}, fitted by stfit {}",
             fit.label(),
-            fit.rmse_sqrt_l,
+            crate::translate::four_digits(fit.rmse_sqrt_l),
             fit.n_points,
             escape_control(&fit.stfit_version)
         );

@@ -15,9 +15,10 @@ use stfit_fit::Optimizer;
 use stfit_fit::conventions::pair_from_deg;
 use stfit_fit::optimize::minimize;
 
-use crate::directions::{SphereSet, l_of, l_per_bsdf};
+use crate::directions::{SphereSet, l_of, l_per_bsdf, resolved};
 use crate::target::Scatter;
 use crate::{ExportError, ExportModel};
+use stfit_core::bsdf::AnalyticBsdf;
 
 /// The fitted model's `sqrt(L)` over a [`SphereSet`], computed once per export.
 #[derive(Debug, Clone)]
@@ -25,10 +26,12 @@ pub struct Reference {
     set: SphereSet,
     eta: f64,
     scale: f64,
-    /// `sqrt(L)` per incidence direction, per outgoing direction.
+    /// `sqrt(L)` per incidence direction (row of the set), per outgoing direction.
     sqrt_l: Vec<Vec<f64>>,
     /// Mean square of `sqrt(L)`: normalises the optimiser's cost to the order of 1.
     energy: f64,
+    /// Incidences whose lobes even graded directions do not resolve ([`resolved`]).
+    warnings: Vec<String>,
 }
 
 impl Reference {
@@ -37,20 +40,23 @@ impl Reference {
     pub fn new(model: &ExportModel, set: SphereSet) -> Result<Self, ExportError> {
         let eta = model.eta();
         let pairs: Vec<(Vec3, Vec3)> = set
-            .incidences
+            .rows
             .iter()
-            .flat_map(|&wi| set.outgoing.iter().map(move |&wo| (wi, wo)))
+            .flat_map(|row| row.outgoing.iter().map(move |&wo| (row.wi, wo)))
             .collect();
         let q = pairs
             .iter()
             .map(|&(wi, wo)| l_per_bsdf(wi, wo, eta))
             .collect();
-        let values = model.forward_values(&pairs, q)?;
-        let sqrt_l = values
-            .chunks(set.outgoing.len())
+        let mut values = model.forward_values(&pairs, q)?.into_iter();
+        let sqrt_l = set
+            .rows
+            .iter()
             .map(|row| {
-                row.iter()
-                    .map(|&v| (model.scale() * v).max(0.0).sqrt())
+                values
+                    .by_ref()
+                    .take(row.outgoing.len())
+                    .map(|v| (model.scale() * v).max(0.0).sqrt())
                     .collect()
             })
             .collect();
@@ -60,28 +66,43 @@ impl Reference {
             scale: model.scale(),
             sqrt_l,
             energy: 1.0,
+            warnings: Vec::new(),
         };
         r.energy = r.mean_square(|_, _| 0.0).max(f64::MIN_POSITIVE);
         Ok(r)
     }
 
-    /// The fitted model's values over the standard set.
+    /// The fitted model's values over the standard set, with outgoing directions graded about
+    /// the peaks for the incidences whose lobes the standard nodes do not resolve
+    /// ([`resolved`], judged on the model's single scattering, whose lobes are the narrow
+    /// ones).
     pub fn standard(model: &ExportModel) -> Result<Self, ExportError> {
-        Self::new(model, SphereSet::standard())
+        let single = model.single();
+        let (set, warnings) = resolved(|wi, wo| single.f_cos(wi, wo), model.eta(), model.alpha());
+        let mut r = Self::new(model, set)?;
+        r.warnings = warnings;
+        Ok(r)
     }
 
-    /// Mean square difference between `sqrt(L)` of `f_cos` and the reference.
+    /// Warnings for the export: incidences whose lobes even graded outgoing directions do not
+    /// resolve, where the translation's error is uncertain.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// Mean square difference between `sqrt(L)` of `f_cos` and the reference: per incidence
+    /// the weighted mean over its outgoing directions, then the mean over incidences.
     fn mean_square(&self, f_cos: impl Fn(Vec3, Vec3) -> f64 + Sync) -> f64 {
-        let total_w: f64 = self.set.weights.iter().sum();
         let per_incidence: Vec<f64> = self
             .set
-            .incidences
+            .rows
             .par_iter()
             .zip(&self.sqrt_l)
-            .map(|(&wi, refs)| {
+            .map(|(row, refs)| {
+                let total_w: f64 = row.weights.iter().sum();
                 let mut s = 0.0;
-                for ((&wo, &w), &r) in self.set.outgoing.iter().zip(&self.set.weights).zip(refs) {
-                    let v = l_of(f_cos(wi, wo), wi, wo, self.eta, self.scale)
+                for ((&wo, &w), &r) in row.outgoing.iter().zip(&row.weights).zip(refs) {
+                    let v = l_of(f_cos(row.wi, wo), row.wi, wo, self.eta, self.scale)
                         .max(0.0)
                         .sqrt();
                     s += w * (v - r) * (v - r);
@@ -95,6 +116,45 @@ impl Reference {
     /// Root-mean-square difference of `sqrt(L)` between `target` and the fitted model.
     pub fn rmse(&self, target: &impl Scatter) -> f64 {
         self.mean_square(|wi, wo| target.f_cos(wi, wo)).sqrt()
+    }
+
+    /// Root mean square of the fitted model's own `sqrt(L)` over the set (same weights as
+    /// [`Reference::rmse`]; at least `sqrt(f64::MIN_POSITIVE)`): the scale a translation's
+    /// rmse is relative to.
+    pub fn rms(&self) -> f64 {
+        self.energy.sqrt()
+    }
+}
+
+/// Relative size of rounding: a translation whose rmse is below this times the reference's
+/// rms ([`Reference::rms`]) is an exact mapping up to floating-point rounding.
+pub const ROUNDING: f64 = 1e-9;
+
+/// Whether `rmse` is rounding relative to a reference of rms `reference_rms` ([`ROUNDING`]):
+/// relative, so that a fit's scale (1e-12 or 1e12: `sqrt(L)` scales with `sqrt(scale)`)
+/// neither makes a real error look like rounding nor rounding look like an error.
+pub fn is_rounding(rmse: f64, reference_rms: f64) -> bool {
+    rmse <= ROUNDING * reference_rms
+}
+
+/// `x` with four decimals (`0.0123`), or with four significant digits in scientific notation
+/// where four decimals would show none (`3.2145e-9`, an rmse of a fit at scale 1e-12) or it is
+/// 1e6 or more: a small nonzero value is not printed as 0.0000.
+pub fn four_digits(x: f64) -> String {
+    if x == 0.0 || (5e-5..1e6).contains(&x.abs()) {
+        format!("{x:.4}")
+    } else {
+        format!("{x:.4e}")
+    }
+}
+
+/// An rmse of `sqrt(L)` as the comments print it: `0.0000` where it is rounding relative to
+/// the fitted model's rms `reference_rms` ([`is_rounding`]), else [`four_digits`].
+pub fn rmse_text(rmse: f64, reference_rms: f64) -> String {
+    if is_rounding(rmse, reference_rms) {
+        four_digits(0.0)
+    } else {
+        four_digits(rmse)
     }
 }
 
@@ -139,6 +199,9 @@ pub struct Translation {
     pub exact_ndf: bool,
     /// Optimiser iterations (0 for an exact mapping).
     pub iterations: u64,
+    /// Root mean square of the fitted model's `sqrt(L)` over the sphere of directions
+    /// ([`Reference::rms`]): what `rmse` is relative to.
+    pub reference_rms: f64,
 }
 
 impl Translation {
@@ -155,19 +218,29 @@ impl Translation {
             "fitted over the sphere of directions (Nelder-Mead)"
         };
         format!(
-            "{how}; rmse sqrt(L): {:.4} over the sphere of directions, {:.4} over the measurement grid",
-            self.rmse, self.rmse_measured_grid
+            "{how}; rmse sqrt(L): {} over the sphere of directions, {} over the measurement grid",
+            rmse_text(self.rmse, self.reference_rms),
+            rmse_text(self.rmse_measured_grid, self.reference_rms)
         )
     }
 
+    /// Whether the rmse is rounding relative to the fitted model's own values
+    /// ([`is_rounding`]).
+    pub fn exact_to_rounding(&self) -> bool {
+        is_rounding(self.rmse, self.reference_rms)
+    }
+
     /// One line per parameter: value, rmse growth per unit and the change for +10% rmse (none
-    /// where the mapping's rmse is rounding, below 1e-9: 10% of it means nothing).
+    /// where the mapping's rmse is rounding ([`Translation::exact_to_rounding`]): 10% of it
+    /// means nothing).
     pub fn sensitivity_lines(&self) -> Vec<String> {
         self.params
             .iter()
             .map(|p| {
                 let ten = match p.change_for_10pct {
-                    _ if self.rmse < 1e-9 => "- (the mapping is exact to rounding)".to_string(),
+                    _ if self.exact_to_rounding() => {
+                        "- (the mapping is exact to rounding)".to_string()
+                    }
                     Some(d) => format!("{d:.3e}"),
                     None => "-".to_string(),
                 };
@@ -257,6 +330,7 @@ pub fn evaluate<F: Family>(
         rmse_measured_grid: grid_rmse(model, &bsdf, &measured_grid())?,
         exact_ndf: true,
         iterations: 0,
+        reference_rms: reference.rms(),
     })
 }
 
@@ -309,6 +383,7 @@ pub fn fit<F: Family>(
         rmse_measured_grid: grid_rmse(model, &bsdf, &measured_grid())?,
         exact_ndf: false,
         iterations,
+        reference_rms: reference.rms(),
     })
 }
 

@@ -552,3 +552,112 @@ fn find<'a>(
         .find(|f| f.sample == sample && f.model.kind == kind && !f.model.gamma.is_fixed())
         .unwrap()
 }
+
+/// "Exact to rounding" is relative to the fit's own values: `sqrt(L)` scales with
+/// `sqrt(scale)`, so at scale 1e-12 a real masking error (Cycles' Lambda sum for a separable
+/// GGX fit at alpha 0.02, rmse 9e-12 there, which the absolute threshold 1e-9 called rounding)
+/// is not called rounding, and at 1e12 Mitsuba's exact mapping (rmse 1e-10) is; the reported error
+/// relative to the fit's rms is the same at every scale, and no rmse is printed as 0.0000 when
+/// it is not rounding.
+#[test]
+fn exact_to_rounding_is_relative_to_the_fit_scale() {
+    const ALPHA: f64 = 0.02;
+    let at = |scale: f64, t: Target| {
+        let m = ExportModel::new(
+            Model::single(ModelKind::Ggx, ALPHA, Gamma::NotApplicable, scale),
+            "test fit",
+        )
+        .unwrap();
+        targets::export(t, &m, "g").unwrap()
+    };
+    let relative = |e: &targets::Export| {
+        let t = e.translation.as_ref().unwrap();
+        t.rmse / t.reference_rms
+    };
+    let cycles_at_1 = relative(&at(1.0, Target::Cycles));
+    for scale in [1e-12, 1e12] {
+        let cycles = at(scale, Target::Cycles);
+        let t = cycles.translation.as_ref().unwrap();
+        assert!(!t.exact_to_rounding(), "{scale}: {t:?}");
+        assert!(
+            (relative(&cycles) / cycles_at_1 - 1.0).abs() < 1e-6,
+            "{scale}: {} vs {cycles_at_1}",
+            relative(&cycles)
+        );
+        let text = &cycles.files[0].text;
+        assert!(
+            !text.contains("exact to rounding") && !text.contains("rmse sqrt(L): 0.0000"),
+            "{scale}: {text}"
+        );
+        let mitsuba = at(scale, Target::Mitsuba3);
+        let t = mitsuba.translation.as_ref().unwrap();
+        assert!(t.exact_to_rounding(), "{scale}: {t:?}");
+        assert!(
+            mitsuba.files[0].text.contains("exact to rounding"),
+            "{scale}"
+        );
+    }
+}
+
+/// A near-smooth fit (alpha 0.003, eta 1.05) has lobes far narrower than the standard grid's
+/// nodes (48 Gauss-Legendre nodes per hemisphere, 36 in azimuth): the translation is made on
+/// outgoing directions graded around the specular and refracted peaks of the incidences the
+/// grid does not resolve. A Student-T fit at gamma 2 is exactly GGX and at gamma 400 nearly
+/// Beckmann with the same alpha: translated to Mitsuba's GGX or Beckmann, alpha is recovered
+/// within a few %.
+#[test]
+fn near_smooth_translation_recovers_alpha() {
+    for (gamma, family) in [(2.0, "ggx"), (400.0, "beckmann")] {
+        let m = ExportModel::new(
+            Model {
+                eta: 1.05,
+                ..Model::single(ModelKind::StudentT, 0.003, Gamma::Free(gamma), 1.0)
+            },
+            "near-smooth test fit",
+        )
+        .unwrap();
+        let e = targets::export(Target::Mitsuba3, &m, "s").unwrap();
+        let t = e.translation.as_ref().unwrap();
+        let alpha = t.value("alpha").unwrap();
+        eprintln!(
+            "gamma {gamma}: alpha {alpha} rmse {} warnings {:?}",
+            t.rmse, e.warnings
+        );
+        assert!(
+            e.files[0].text.contains(&format!("\"{family}\"")),
+            "gamma {gamma}: {}",
+            e.files[0].text
+        );
+        assert!(
+            (alpha / 0.003 - 1.0).abs() < 0.03,
+            "gamma {gamma}: alpha {alpha}"
+        );
+    }
+}
+
+/// An all-orders fit is translated against its full BSDF, higher orders included; Blender 4's
+/// Multiscatter GGX scales the single-scattering lobe by its inverse albedo, which would add
+/// them a second time: the Cycles script uses single-scattering GGX for both nodes and says
+/// why.
+#[test]
+fn all_orders_fits_are_not_multiscattered_twice_in_cycles() {
+    let m = ExportModel::new(
+        Model {
+            masking: stfit_core::bsdf::Masking::Correlated,
+            orders: stfit_core::ScatteringOrders::All,
+            walks: Some(16),
+            seed: Some(1),
+            ..Model::single(ModelKind::Ggx, 0.3, Gamma::NotApplicable, 1.0)
+        },
+        "all-orders test fit",
+    )
+    .unwrap();
+    let text = &targets::export(Target::Cycles, &m, "a").unwrap().files[0].text;
+    assert!(!text.contains("MULTI_GGX"), "{text}");
+    assert!(
+        text.contains("glass.distribution = 'GGX'")
+            && text.contains("bsdf.distribution = 'GGX'")
+            && text.contains("would add the higher orders a second time"),
+        "{text}"
+    );
+}

@@ -54,7 +54,8 @@ pub fn family(eta: f64) -> Microfacet {
 
 /// Writes the appleseed project fragment.
 pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Export, ExportError> {
-    let mut warnings = Vec::new();
+    // The reference's own warnings first: incidences it does not resolve.
+    let mut warnings = reference.warnings().to_vec();
     if !(1.0..=2.5).contains(&model.eta()) {
         return Err(ExportError::Unsupported(format!(
             "appleseed's glass_bsdf takes ior in [1, 2.5], the fit has eta {}",

@@ -15,6 +15,14 @@
 //!   Fresnel. Its transmission tint is `sqrt(base_color)` (1 for white), and with Transmission
 //!   Weight 1 every other component is weighted by `1 - 1 = 0`. So a white Principled BSDF with
 //!   Transmission Weight 1 is the same GGX glass as the Glass node with GGX.
+//! - Multiscatter GGX (`MULTI_GGX`) in Blender 4 is no random walk: `bsdf_microfacet.h` and
+//!   `bsdf_microfacet_util.h` (`microfacet_ggx_glass_albedo_scaling`) scale the
+//!   single-scattering GGX glass lobe by the inverse of its tabulated albedo
+//!   `E(cos, sqrt(alpha), ior)` (`energy_scale`), adding the higher orders' energy in the
+//!   single-scattering lobe's shape. An all-orders fit is translated against the fit's full
+//!   BSDF, higher orders included, so the translated lobe (or the stated error) already holds
+//!   them: its scripts use single-scattering GGX (`GGX`) for both nodes, and what renders is
+//!   what the translation's error describes. Multiscatter GGX would count them twice.
 
 use super::{
     AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet,
@@ -51,7 +59,8 @@ fn family(ndf: Family1, eta: f64) -> Microfacet {
 
 /// Writes the script.
 pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Export, ExportError> {
-    let mut warnings = Vec::new();
+    // The reference's own warnings first: incidences it does not resolve.
+    let mut warnings = reference.warnings().to_vec();
     let ggx = translate_microfacet(
         &family(Family1::Ggx, model.eta()),
         model,
@@ -74,11 +83,10 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         }
         AnyNdf::Ggx(_) => (Family1::Ggx, ggx.clone()),
     };
-    let multi = model.model.orders == ScatteringOrders::All;
-    let dist_name = match (glass_dist, multi) {
-        (Family1::Ggx, true) => "MULTI_GGX",
-        (Family1::Ggx, false) => "GGX",
-        (Family1::Beckmann, _) => "BECKMANN",
+    let all_orders = model.model.orders == ScatteringOrders::All;
+    let dist_name = match glass_dist {
+        Family1::Ggx => "GGX",
+        Family1::Beckmann => "BECKMANN",
     };
     let mut notes = provenance(
         model,
@@ -98,8 +106,8 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         ggx.params[0].value,
         ggx.summary()
     ));
-    if multi {
-        text.push_str("# All-orders fit: Multiscatter GGX adds the energy of higher orders; the translation error above is that of the single-scattering lobe.\n");
+    if all_orders {
+        text.push_str("# All-orders fit: single-scattering GGX, not Multiscatter GGX, whose albedo scaling (Blender 4) would add the higher orders a second time; the fit's higher orders are in the translated lobe or in the translation error above.\n");
     }
     let r = glass.params[0].value;
     let rp = ggx.params[0].value;
@@ -130,7 +138,7 @@ def {id}_principled():\n    \
     bsdf.inputs[\"Specular Tint\"].default_value = (1.0, 1.0, 1.0, 1.0)\n    \
     return mat\n",
         eta = model.eta(),
-        pdist = if multi { "MULTI_GGX" } else { "GGX" },
+        pdist = "GGX",
     ));
     Ok(Export {
         files: vec![ExportFile {

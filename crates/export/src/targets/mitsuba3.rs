@@ -59,7 +59,8 @@ pub fn translation(
 
 /// Writes the XML element and the Python dict.
 pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Export, ExportError> {
-    let mut warnings = Vec::new();
+    // The reference's own warnings first: incidences it does not resolve.
+    let mut warnings = reference.warnings().to_vec();
     let (ndf, t) = translation(model, reference, &mut warnings)?;
     let alpha = t.params[0].value;
     if alpha < ALPHA_MIN {

@@ -29,7 +29,9 @@ use super::{
     warning_notes, xml_comment_text,
 };
 use crate::target::{CoreMicrofacet, Mixture, Smith, TargetDielectric};
-use crate::translate::{self, Family, Reference, Translation, from_unit_coord, unit_coord};
+use crate::translate::{
+    self, Family, Reference, Translation, from_unit_coord, rmse_text, unit_coord,
+};
 use crate::{ExportError, ExportModel};
 use stfit_core::ndf::Ggx;
 
@@ -103,7 +105,8 @@ impl Family for Haze {
 
 /// Writes the MaterialX document.
 pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Export, ExportError> {
-    let mut warnings = Vec::new();
+    // The reference's own warnings first: incidences it does not resolve.
+    let mut warnings = reference.warnings().to_vec();
     let single = Microfacet {
         ndf: Family1::Ggx,
         eta: model.eta(),
@@ -144,10 +147,10 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         ],
     );
     notes.push(format!(
-        "single GGX lobe: rmse {:.4}; two-lobe haze mixture: rmse {:.4} as the specification reads it, {:.4} as the reference MaterialX graph (reference/open_pbr_surface.mtlx) renders it, with the haze in reflection only ({}).",
-        one.rmse,
-        haze.rmse,
-        graph_rmse,
+        "single GGX lobe: rmse {}; two-lobe haze mixture: rmse {} as the specification reads it, {} as the reference MaterialX graph (reference/open_pbr_surface.mtlx) renders it, with the haze in reflection only ({}).",
+        rmse_text(one.rmse, reference.rms()),
+        rmse_text(haze.rmse, reference.rms()),
+        rmse_text(graph_rmse, reference.rms()),
         if meaningful {
             "haze written"
         } else {

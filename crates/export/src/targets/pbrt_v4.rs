@@ -47,7 +47,8 @@ pub fn family(eta: f64) -> Microfacet {
 
 /// Writes the material line with its comment.
 pub fn export(model: &ExportModel, reference: &Reference) -> Result<Export, ExportError> {
-    let mut warnings = Vec::new();
+    // The reference's own warnings first: incidences it does not resolve.
+    let mut warnings = reference.warnings().to_vec();
     let t = translate_microfacet(&family(model.eta()), model, reference, &mut warnings)?;
     let roughness = t.params[0].value;
     if renders_smooth(roughness) {

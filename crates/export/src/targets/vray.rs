@@ -158,7 +158,8 @@ fn g1_deviation(gtr: &VRayGtr) -> f64 {
 
 /// Writes the `.vrscene` fragment: the BRDF and a `MtlSingleBRDF` using it.
 pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Export, ExportError> {
-    let mut warnings = Vec::new();
+    // The reference's own warnings first: incidences it does not resolve.
+    let mut warnings = reference.warnings().to_vec();
     let t = translation(model, reference, &mut warnings)?;
     let (g, gamma) = (t.params[0].value, t.params[1].value);
     let gtr = VRayGtr::new(alpha_of_glossiness(g), gamma)?;
