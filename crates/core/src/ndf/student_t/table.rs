@@ -157,11 +157,11 @@ impl BetaFractions for FractionTable {
 /// Chebyshev nodes), for batches of many directions: D and the sampler are the NDF's own.
 ///
 /// Agrees with [`StudentT`]'s exact fractions to a few ulps (the interpolants are built
-/// from them). Building evaluates the exact fractions about 140 times at gamma 2.8 and 530
-/// times at gamma 1000 (19 and 132 us, criterion medians of `cargo bench -p stfit-core
-/// --bench ndf -- build`), and Lambda at gamma 2.8 and 60 degrees then takes 28.6 ns instead
-/// of 54.9 ns, so it pays from a few thousand Lambda evaluations with one NDF. For gamma above
-/// [`TabulatedStudentT::MAX_GAMMA`] it evaluates the fractions exactly.
+/// from them). Building evaluates the exact fractions about 140 times at gamma 2.8 (19 us,
+/// criterion median of `cargo bench -p stfit-core --bench ndf -- build`), and Lambda at gamma
+/// 2.8 and 60 degrees then takes 28.6 ns instead of 54.9 ns, so it pays from a few thousand
+/// Lambda evaluations with one NDF. For gamma above [`TabulatedStudentT::MAX_GAMMA`] it is the
+/// exact NDF, whose Lambda there comes from a Gauss rule, not from the fractions.
 ///
 /// ```
 /// use stfit_core::ndf::{Ndf, StudentT, TabulatedStudentT};
@@ -180,9 +180,11 @@ pub struct TabulatedStudentT {
 }
 
 impl TabulatedStudentT {
-    /// Shapes above this one keep the exact continued fractions: the binades of the lower
-    /// fraction grow as `log2 gamma` and its steps as `sqrt gamma`.
-    pub const MAX_GAMMA: f64 = 1e3;
+    /// Shapes above this one have no table: [`StudentT`] computes Lambda there by a Gauss
+    /// rule over its Gamma superposition ([`StudentT::QUADRATURE_GAMMA`]), not by the continued
+    /// fractions that a table would interpolate (they lose up to 3.4e-7 of Lambda by gamma
+    /// 1e8; the table of gamma 1e3 took 132 us to build and matched them, not Lambda).
+    pub const MAX_GAMMA: f64 = StudentT::QUADRATURE_GAMMA;
 
     /// The tabulated form of `ndf`.
     pub fn new(ndf: StudentT) -> Self {
