@@ -96,7 +96,7 @@ impl<N: Ndf> RoughDielectric<N> {
             return 0.0;
         }
         let (t_i, t_o) = terms();
-        let f = hv.dielectric_fresnel(self.eta);
+        let f = hv.dielectric_fresnel_of(wi, wo, self.eta);
         hv.walter_factor(wi.z, f) * self.masking.g(hv.reflect, t_i, t_o) * d
     }
 
