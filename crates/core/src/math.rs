@@ -46,8 +46,8 @@ pub fn spherical_direction(theta: f64, phi: f64) -> Vec3 {
     Vec3::new(st * cp, st * sp, ct)
 }
 
-/// `w` scaled to unit length when its squared norm is off 1 by more than rounding (`|w.w - 1|
-/// > 4 eps`), else `w` itself, bit for bit: for directions accepted within a tolerance of unit
+/// `w` scaled to unit length when its squared norm is off 1 by more than rounding
+/// (`|w.w - 1| > 4 eps`), else `w` itself, bit for bit: for directions accepted within a tolerance of unit
 /// length (1e-6, as a CSV with 6 decimals gives them), whose excess norm would otherwise tilt
 /// half vectors (by 0.79 of an alpha-1e-8 lobe at grazing reflection) and shift cosines. `w`
 /// must be finite and nonzero.

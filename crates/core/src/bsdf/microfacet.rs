@@ -511,6 +511,7 @@ mod tests {
     /// cases (0.48, 0.11 and 0.24 of an alpha of 1e-8), from the inputs' ulp-sized departures
     /// from unit length.
     #[test]
+    #[allow(clippy::excessive_precision)]
     fn grazing_reflection_half_vector_is_that_of_the_unit_directions() {
         let cases = [
             (
@@ -544,6 +545,7 @@ mod tests {
     /// the f64 inputs): the incident `sin^2` from the directions' difference keeps F to 1e-12,
     /// 1e-11 and 2e-10; through `1 - (wi.h)^2` it was off by 2.4e-8, 6.3e-7 and 1.7e-6.
     #[test]
+    #[allow(clippy::excessive_precision)]
     fn reflection_fresnel_near_the_critical_angle_keeps_its_digits() {
         let cases = [
             (
