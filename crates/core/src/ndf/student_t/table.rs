@@ -232,7 +232,8 @@ mod tests {
     use super::*;
 
     /// The interpolated fractions against the exact ones over a dense sweep of each
-    /// fraction's whole range, for shapes from near 3/2 to `MAX_GAMMA`. The differences are the
+    /// fraction's whole range, for shapes from near 3/2 to 1e3 (beyond `MAX_GAMMA`, where no table
+    /// is built any more, as a check of the interpolation itself). The differences are the
     /// exact fractions' own rounding (they stay the same with 16 coefficients as with 12): a
     /// few ulps, growing for the lower fraction with gamma as its steps grow and as its
     /// argument `x = 1 - u` nears 1, where an ulp of `x` is a larger part of `1 - x`.
@@ -280,8 +281,9 @@ mod tests {
     /// terms of `excess` cancel to `1/k^2` of their size, which scales the fractions' few-ulp
     /// differences. At gamma 1000 the two terms also cancel near the horizon, and both forms
     /// are off by about 5e-13 (sigma at z = -0.648: mpmath 2.8328388000062923e-4, exact
-    /// 2.8328388000048920e-4, tabulated 2.8328388000079060e-4), so the bound is 1e-12 there.
-    /// Above `MAX_GAMMA` it is the exact NDF.
+    /// 2.8328388000048920e-4, tabulated 2.8328388000079060e-4: both were the fractions then;
+    /// now both are the Gauss rule), so the bound is 1e-12 there. Above `MAX_GAMMA` it is the
+    /// exact NDF.
     #[test]
     fn lambda_and_sigma_match_the_exact_ndf() {
         for gamma in [1.6, 2.0, 2.8, 3.0, 7.5, 50.0, 1e3, 2e3] {
