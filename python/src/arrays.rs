@@ -18,8 +18,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat};
 use rayon::prelude::*;
 use stfit_core::Vec3;
-use stfit_core::math::to_unit;
 use stfit_core::error::show;
+use stfit_core::math::to_unit;
 use stfit_fit::pairs::direction_problem;
 
 use crate::numbers::{nested_bool, refuse_masked};
