@@ -501,3 +501,53 @@ fn mean_bounces_is_undefined_when_no_walk_left_within_the_orders() {
     let all = albedo_json(&args[..8]);
     assert!(num(&all, "mean_bounces") >= 1.0, "{all}");
 }
+
+/// A side that no walk reached (here both: orders >= 2 of a near-specular surface) reports
+/// no standard error but the one-sided 95% upper bound `1 - 0.05^(1/N)`, in JSON
+/// (`*_upper_bound`, the stderr null) and in the text; it used to report a standard error of
+/// 0. A side that walks reached has a standard error and a null bound.
+#[test]
+fn unreached_side_reports_a_95_percent_upper_bound() {
+    let base = [
+        "--ndf",
+        "ggx",
+        "--alpha",
+        "1e-8",
+        "--eta",
+        "1.5",
+        "--theta-i",
+        "30",
+    ];
+    let mut args = base.to_vec();
+    args.extend_from_slice(&["--orders", "multiple"]);
+    let v = albedo_json(&args);
+    let bound = 1.0 - 0.05f64.powf(1.0 / 40000.0);
+    for side in ["reflectance", "transmittance"] {
+        assert_eq!(num(&v, side), 0.0, "{v}");
+        assert!(v[format!("{side}_stderr")].is_null(), "{v}");
+        let b = num(&v, &format!("{side}_upper_bound"));
+        assert!(
+            (b / bound - 1.0).abs() < 1e-9,
+            "{side}: {b} against {bound}"
+        );
+    }
+    let mut text_args = vec!["albedo", "--walks", "1000"];
+    text_args.extend_from_slice(&args);
+    let out = stfit(&text_args);
+    assert_eq!(out.code, Some(0), "{}", out.stderr);
+    for side in ["reflectance   ", "transmittance "] {
+        assert!(
+            out.stdout
+                .contains(&format!("{side} 0.000000 (no walk; below 2.991e-3 at 95%)")),
+            "{}",
+            out.stdout
+        );
+    }
+    assert!(!out.stdout.contains("+-"), "{}", out.stdout);
+    // Every order: both sides reached, standard errors and no bounds.
+    let v = albedo_json(&base);
+    for side in ["reflectance", "transmittance"] {
+        assert!(num(&v, &format!("{side}_stderr")) > 0.0, "{v}");
+        assert!(v[format!("{side}_upper_bound")].is_null(), "{v}");
+    }
+}

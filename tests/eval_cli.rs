@@ -620,3 +620,34 @@ fn subnormal_z_names_line_and_column() {
     );
     assert_eq!(out.code, Some(0), "{}", out.stderr);
 }
+
+/// Directions accepted within the unit tolerance (here typed with 6 decimals: norms 1 - 5.0e-7
+/// and 1 - 4.0e-7) are scaled to unit length before evaluation: near-grazing reflection at
+/// alpha 1e-4 gives the value of the unit directions, to rounding. Taken as they were, their
+/// excess norms tilted the half vector by 5e-5 (half the roughness: the value came out 1.56
+/// times too large); with the half vector of the unit directions but the cosines unscaled, the
+/// value was still 5.0e-7 off.
+#[test]
+fn near_unit_directions_are_scaled_to_unit_length() {
+    let (wi, wo) = (
+        Vec3::new(0.999999, 0.0, 0.001),
+        Vec3::new(-0.999999, 0.0, 0.0011),
+    );
+    let typed = format!("{HEADER}\n0.999999,0,0.001,-0.999999,0,0.0011\n");
+    let (ui, uo) = (wi.normalize(), wo.normalize());
+    let unit = format!(
+        "{HEADER}\n{:?},0,{:?},{:?},0,{:?}\n",
+        ui.x, ui.z, uo.x, uo.z
+    );
+    let value = |stdin: &str| -> f64 {
+        let out = run(&["--ndf", "ggx", "--alpha", "1e-4", "--eta", "1.5"], stdin);
+        assert_eq!(out.code, Some(0), "{}", out.stderr);
+        let row = out.stdout.lines().nth(1).expect("a row").to_owned();
+        row.rsplit(',').next().unwrap().parse().unwrap()
+    };
+    let (a, b) = (value(&typed), value(&unit));
+    assert!(b > 0.0 && ((a - b) / b).abs() < 1e-9, "typed {a}, unit {b}");
+    // The library itself keeps exactly unit input bit for bit.
+    let exact = Vec3::new(0.6, 0.0, 0.8);
+    assert_eq!(stfit_core::math::to_unit(exact), exact);
+}

@@ -5,7 +5,8 @@
 //! when it already is one. Values come back with the leading shape (a Python float for a
 //! single direction). Every direction must be one the library takes
 //! ([`stfit_fit::pairs::direction_problem`]): finite, a unit vector (|norm - 1| <= 1e-6) and
-//! with a `z` that is 0 or normal (not below 2.2e-308).
+//! with a `z` that is 0 or normal (not below 2.2e-308); an accepted direction is scaled to unit
+//! length ([`stfit_core::math::to_unit`]; exactly unit input is kept as it is).
 //!
 //! With the GIL released another Python thread may write into the caller's array, so a call
 //! reads it once ([`checked_copy`]): it checks and computes on its own copy, and a direction
@@ -18,6 +19,7 @@ use pyo3::types::{PyDict, PyFloat};
 use rayon::prelude::*;
 use stfit_core::Vec3;
 use stfit_core::error::show;
+use stfit_core::math::to_unit;
 use stfit_fit::pairs::direction_problem;
 
 use crate::numbers::{nested_bool, refuse_masked};
@@ -117,7 +119,15 @@ pub fn checked_copy(flat: &[f64], name: &str) -> PyResult<Vec<f64>> {
         .enumerate()
         .filter_map(|(b, (to, from))| {
             to.copy_from_slice(from);
-            let j = to.chunks_exact(3).position(refused)?;
+            let j = to.chunks_exact(3).position(refused);
+            if j.is_none() {
+                // Accepted within the unit tolerance: scaled to unit length.
+                for c in to.chunks_exact_mut(3) {
+                    let w = to_unit(Vec3::new(c[0], c[1], c[2]));
+                    c.copy_from_slice(&[w.x, w.y, w.z]);
+                }
+            }
+            let j = j?;
             Some(b * ROWS_PER_TASK + j)
         })
         .min();

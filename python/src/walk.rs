@@ -8,8 +8,8 @@ use stfit_core::error::show;
 use stfit_core::ndf::AnyNdf;
 use stfit_core::surface::{NdfChoice, NdfFamily, Surface, SurfaceOptions};
 use stfit_core::walk::{
-    AlbedoEstimate, DEFAULT_ALBEDO_WALKS, DEFAULT_EVAL_WALKS, check_walks, defined_stderr,
-    eval_pairs,
+    AlbedoEstimate, DEFAULT_ALBEDO_WALKS, DEFAULT_EVAL_WALKS, SideError, check_walks,
+    defined_stderr, eval_pairs,
 };
 
 use crate::arrays::{Dirs, Pairing, checked_copy, values};
@@ -192,7 +192,9 @@ impl PyMicrosurface {
 }
 
 /// An albedo estimate: `reflectance`, `transmittance` and their standard errors (None with
-/// fewer than 2 walks, as `stfit albedo --json` gives null), the mean number of scattering
+/// fewer than 2 walks, as `stfit albedo --json` gives null, and for a side that no walk
+/// reached, which has instead the one-sided 95% upper bound `1 - 0.05^(1/walks)` in
+/// `reflectance_upper_bound` / `transmittance_upper_bound`, None for a reached side), the mean number of scattering
 /// events of the walks that left within the orders, `mean_bounces` (the path length, which
 /// facet albedos do not change: they weight a walk; None when no walk left within the orders), the fraction `truncated` of the flux dropped by walks past the
 /// safety cap, and the number of `walks`.
@@ -209,15 +211,29 @@ impl Albedo {
     fn transmittance(&self) -> f64 {
         self.0.transmittance
     }
-    /// None with fewer than 2 walks, where a standard error is undefined.
+    /// None with fewer than 2 walks, where a standard error is undefined, and when no walk was
+    /// reflected (see `reflectance_upper_bound`).
     #[getter]
     fn reflectance_stderr(&self) -> Option<f64> {
-        defined_stderr(self.0.walks, self.0.reflectance_stderr)
+        self.0.reflectance_error().stderr()
     }
-    /// None with fewer than 2 walks, where a standard error is undefined.
+    /// None with fewer than 2 walks, where a standard error is undefined, and when no walk was
+    /// transmitted (see `transmittance_upper_bound`).
     #[getter]
     fn transmittance_stderr(&self) -> Option<f64> {
-        defined_stderr(self.0.walks, self.0.transmittance_stderr)
+        self.0.transmittance_error().stderr()
+    }
+    /// When no walk was reflected, the one-sided 95% upper bound `1 - 0.05^(1/walks)` on the
+    /// chance that a walk is; None otherwise.
+    #[getter]
+    fn reflectance_upper_bound(&self) -> Option<f64> {
+        self.0.reflectance_error().upper_bound()
+    }
+    /// When no walk was transmitted, the one-sided 95% upper bound `1 - 0.05^(1/walks)` on
+    /// the chance that a walk is; None otherwise.
+    #[getter]
+    fn transmittance_upper_bound(&self) -> Option<f64> {
+        self.0.transmittance_error().upper_bound()
     }
     #[getter]
     fn mean_bounces(&self) -> Option<f64> {
@@ -232,17 +248,21 @@ impl Albedo {
         self.0.walks
     }
     fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
-        let pm = |se: Option<f64>| -> PyResult<String> {
-            se.map_or(Ok(String::new()), |se| {
-                Ok(format!(" +- {}", float_repr(py, se)?))
+        let pm = |e: SideError| -> PyResult<String> {
+            Ok(match e {
+                SideError::Stderr(se) => format!(" +- {}", float_repr(py, se)?),
+                SideError::UpperBound(b) => {
+                    format!(" (no walk; below {} at 95%)", float_repr(py, b)?)
+                }
+                SideError::Undefined => String::new(),
             })
         };
         Ok(format!(
             "stfit.Albedo(reflectance={}{}, transmittance={}{}, walks={})",
             float_repr(py, self.0.reflectance)?,
-            pm(self.reflectance_stderr())?,
+            pm(self.0.reflectance_error())?,
             float_repr(py, self.0.transmittance)?,
-            pm(self.transmittance_stderr())?,
+            pm(self.0.transmittance_error())?,
             self.0.walks
         ))
     }

@@ -163,7 +163,10 @@ class RoughDielectric:
 class Albedo:
     """Fractions of the incident flux leaving on the light's side (``reflectance``) and the
     other (``transmittance``), with standard errors (None with fewer than 2 walks, where they
-    are undefined, as ``stfit albedo --json`` gives null), ``mean_bounces`` (scattering
+    are undefined, as ``stfit albedo --json`` gives null, and for a side that no walk
+    reached, which has instead ``reflectance_upper_bound`` / ``transmittance_upper_bound``,
+    the one-sided 95% bound ``1 - 0.05 ** (1 / walks)``, None for a reached side),
+    ``mean_bounces`` (scattering
     events per walk that left within the orders: the path length, which facet albedos do not
     change, since they weight a walk rather than end it; None when no walk left within the
     orders, as ``stfit albedo --json`` gives null), the fraction
@@ -174,6 +177,8 @@ class Albedo:
     transmittance: float
     reflectance_stderr: Optional[float]
     transmittance_stderr: Optional[float]
+    reflectance_upper_bound: Optional[float]
+    transmittance_upper_bound: Optional[float]
     mean_bounces: Optional[float]
     truncated: float
     walks: int

@@ -108,7 +108,8 @@ def test_fit_walks_outside_the_fit_range_raise_value_error(call, walks, text, tm
 
 def test_one_walk_has_no_standard_error():
     """With 1 walk the standard errors are undefined, as on the command line: eval gives NaN
-    (stfit eval an empty field), albedo None (stfit albedo --json null); 2 walks give numbers."""
+    (stfit eval an empty field), albedo None (stfit albedo --json null); 2 walks give numbers
+    (for a side neither walk reached, its upper bound)."""
     import math
 
     m = _walk()
@@ -120,7 +121,10 @@ def test_one_walk_has_no_standard_error():
     assert a.reflectance_stderr is None and a.transmittance_stderr is None
     assert "+-" not in repr(a)
     a = m.albedo(UP, walks=2)
-    assert a.reflectance_stderr is not None and a.transmittance_stderr is not None
+    # Each side has a standard error, or the upper bound if neither walk reached it.
+    for se, bound in [(a.reflectance_stderr, a.reflectance_upper_bound),
+                      (a.transmittance_stderr, a.transmittance_upper_bound)]:
+        assert (se is None) != (bound is None)
     assert math.isfinite(m.eval(UP, DOWN, walks=2)[1])
 
 
@@ -140,6 +144,30 @@ def test_one_walk_agrees_with_the_cli(cli):
     a = _walk().albedo(UP, walks=1)
     assert out["reflectance_stderr"] is None and a.reflectance_stderr is None
     assert (out["reflectance"], out["transmittance"]) == (a.reflectance, a.transmittance)
+
+
+def test_unreached_side_has_an_upper_bound_not_a_zero_stderr(cli):
+    """A side that no walk reached (orders >= 2 of a near-specular surface: every walk leaves
+    after one event) has no standard error but the one-sided 95% bound 1 - 0.05^(1/walks),
+    as `stfit albedo --json` gives it; a reached side has a standard error and no bound."""
+    import json
+
+    m = stfit.Microsurface(stfit.Ggx(1e-8), 1.5, orders="multiple")
+    wi = [-0.5, 0.0, 3**0.5 / 2]
+    a = m.albedo(wi, walks=1000)
+    bound = 1 - 0.05 ** (1 / 1000)
+    assert a.reflectance == 0.0 and a.transmittance == 0.0
+    assert a.reflectance_stderr is None and a.transmittance_stderr is None
+    assert a.reflectance_upper_bound == pytest.approx(bound, rel=1e-12)
+    assert a.transmittance_upper_bound == pytest.approx(bound, rel=1e-12)
+    assert "no walk; below" in repr(a) and "+-" not in repr(a)
+    out = json.loads(cli("albedo", "--ndf", "ggx", "--alpha", "1e-8", "--eta", "1.5",
+                         "--theta-i", "30", "--orders", "multiple", "--walks", "1000",
+                         "--json"))
+    assert out["reflectance_upper_bound"] == a.reflectance_upper_bound
+    assert out["transmittance_stderr"] is None
+    b = _walk().albedo(UP, walks=1000)
+    assert b.reflectance_upper_bound is None and b.reflectance_stderr > 0
 
 
 @pytest.mark.parametrize("theta_i, theta_o, text", [

@@ -45,7 +45,10 @@ def test_fit_result_repr_writes_huge_numbers_shortly():
     assert repr(fit) == ("stfit.FitResult(sample 'ground', ggx, alpha=1e-08, "
                          "rmse_sqrt_l=1.2345e+300)")
     a = stfit.Microsurface(stfit.Ggx(0.3), 1.5).albedo(UP, walks=10)
-    assert f"reflectance={a.reflectance!r} +- {a.reflectance_stderr!r}" in repr(a)
+    assert f"transmittance={a.transmittance!r} +- {a.transmittance_stderr!r}" in repr(a)
+    # None of the 10 walks is reflected: the bound, as a float repr, instead of a +- 0.
+    assert a.reflectance == 0.0
+    assert f"reflectance=0.0 (no walk; below {a.reflectance_upper_bound!r} at 95%)" in repr(a)
 
 
 def test_ndfs_and_dielectrics_compare_and_hash_by_value():

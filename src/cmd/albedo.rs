@@ -6,8 +6,7 @@ use super::{CmdResult, OrdersArg, Retired, long_run, print_stdout, usage};
 use stfit_core::Vec3;
 use stfit_core::math::radians;
 use stfit_core::walk::{
-    AlbedoEstimate, DEFAULT_ALBEDO_WALKS, Estimator, WalkCost, check_walks, defined_stderr,
-    pilot_seed,
+    AlbedoEstimate, DEFAULT_ALBEDO_WALKS, Estimator, SideError, WalkCost, check_walks, pilot_seed,
 };
 
 /// Arguments of `stfit albedo`.
@@ -74,14 +73,19 @@ fn estimate(walk: &dyn Estimator, wi: Vec3, args: &Args) -> AlbedoEstimate {
     result
 }
 
-/// The report: one JSON object with `--json`, else a few aligned lines.
+/// The report: one JSON object with `--json`, else a few aligned lines. A side that no walk
+/// reached has no standard error (null) but a one-sided 95% upper bound
+/// (`*_upper_bound`, null for a side that walks reached).
 fn format_result(args: &Args, a: &AlbedoEstimate) -> String {
+    let (r_err, t_err) = (a.reflectance_error(), a.transmittance_error());
     if args.json {
         let v = serde_json::json!({
             "reflectance": a.reflectance,
             "transmittance": a.transmittance,
-            "reflectance_stderr": defined_stderr(a.walks, a.reflectance_stderr),
-            "transmittance_stderr": defined_stderr(a.walks, a.transmittance_stderr),
+            "reflectance_stderr": r_err.stderr(),
+            "transmittance_stderr": t_err.stderr(),
+            "reflectance_upper_bound": r_err.upper_bound(),
+            "transmittance_upper_bound": t_err.upper_bound(),
             "mean_bounces": a.mean_bounces,
             "truncated": a.truncated,
             "walks": a.walks,
@@ -89,9 +93,10 @@ fn format_result(args: &Args, a: &AlbedoEstimate) -> String {
         });
         return format!("{v}\n");
     }
-    let pm = |se: f64| match defined_stderr(a.walks, se) {
-        Some(se) => format!(" +- {se:.6}"),
-        None => String::new(),
+    let pm = |e: SideError| match e {
+        SideError::Stderr(se) => format!(" +- {se:.6}"),
+        SideError::UpperBound(b) => format!(" (no walk; below {b:.3e} at 95%)"),
+        SideError::Undefined => String::new(),
     };
     let bounces = match a.mean_bounces {
         Some(b) => format!("{b:.4}"),
@@ -100,9 +105,9 @@ fn format_result(args: &Args, a: &AlbedoEstimate) -> String {
     let mut text = format!(
         "reflectance    {:.6}{}\ntransmittance  {:.6}{}\nmean bounces   {bounces}\nwalks          {}\n",
         a.reflectance,
-        pm(a.reflectance_stderr),
+        pm(r_err),
         a.transmittance,
-        pm(a.transmittance_stderr),
+        pm(t_err),
         a.walks
     );
     if a.truncated > 0.0 {

@@ -37,6 +37,8 @@ fn ndfs(c: &mut Criterion) {
     bench_ndf(c, "student_t", StudentT::new(0.45, 3.0).unwrap());
     // A non-integer gamma: the incomplete-beta continued fraction does not terminate.
     bench_ndf(c, "student_t_g2.8", StudentT::new(0.45, 2.8).unwrap());
+    // Above `QUADRATURE_GAMMA`: Lambda by the Gauss rule of the superposition.
+    bench_ndf(c, "student_t_g1e6", StudentT::new(0.45, 1e6).unwrap());
     // Lambda's fractions interpolated, for batches; and what building the table costs.
     let st = StudentT::new(0.45, 2.8).unwrap();
     bench_ndf(c, "tabulated_student_t_g2.8", TabulatedStudentT::new(st));
@@ -53,7 +55,7 @@ fn ndfs(c: &mut Criterion) {
         StudentT::new(0.3, 10.0).unwrap(),
         150.0,
     );
-    for gamma in [2.8, 1e3] {
+    for gamma in [2.8, 100.0] {
         let st = StudentT::new(0.45, gamma).unwrap();
         c.bench_function(&format!("tabulated_student_t_g{gamma}/build"), |b| {
             b.iter(|| TabulatedStudentT::new(black_box(st)))

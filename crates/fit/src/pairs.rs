@@ -21,7 +21,8 @@ pub const VALUE_COLUMN: &str = "f_cos";
 /// The standard-error column appended after it for Monte Carlo estimates.
 pub const STDERR_COLUMN: &str = "f_cos_stderr";
 
-/// Largest accepted `| |w| - 1 |`: directions are checked, never silently normalised.
+/// Largest accepted `| |w| - 1 |`: directions are checked; an accepted one is then scaled to
+/// unit length ([`stfit_core::math::to_unit`]; exactly unit input is kept as it is).
 pub const UNIT_TOLERANCE: f64 = 1e-6;
 
 /// True for the norm of a unit vector: `|norm - 1| <= UNIT_TOLERANCE` up to the rounding of
@@ -219,7 +220,7 @@ pub fn read_pairs(source: &Path, bytes: &[u8]) -> Result<PairTable, LoadError> {
                 ));
             }
         }
-        let [wi, wo] = pair;
+        let [wi, wo] = pair.map(stfit_core::math::to_unit);
         pairs.push((wi, wo));
         rows.push(fields.into_iter().map(str::to_owned).collect());
     }

@@ -37,7 +37,9 @@ mod smooth_conductor;
 mod smooth_dielectric;
 
 pub use fresnel::{fresnel_conductor, fresnel_dielectric};
-pub(crate) use fresnel::{fresnel_dielectric_fraction, reflectance_fraction};
+pub(crate) use fresnel::{
+    fresnel_dielectric_fraction, reflectance_fraction, reflectance_fraction_sin2, sin2_from_cos,
+};
 pub use lambertian::Lambertian;
 pub(crate) use microfacet::refract_with_fresnel;
 pub use microfacet::{HalfVector, Masking, SmithTerm, reflect, refract};

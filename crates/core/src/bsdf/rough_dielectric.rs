@@ -3,7 +3,7 @@
 use super::microfacet::{HalfVector, Masking, SmithTerm, projected_area, reflect, refract, upper};
 use super::{AnalyticBsdf, Bsdf, BsdfSample, fresnel_dielectric};
 use crate::error::{ParamError, check_eta};
-use crate::math::Vec3;
+use crate::math::{Vec3, to_unit};
 use crate::ndf::{AnyNdf, Ndf, TabulatedStudentT};
 use rand::{Rng, RngExt};
 
@@ -96,7 +96,7 @@ impl<N: Ndf> RoughDielectric<N> {
             return 0.0;
         }
         let (t_i, t_o) = terms();
-        let f = hv.dielectric_fresnel(self.eta);
+        let f = hv.dielectric_fresnel_of(wi, wo, self.eta);
         hv.walter_factor(wi.z, f) * self.masking.g(hv.reflect, t_i, t_o) * d
     }
 
@@ -115,14 +115,24 @@ impl RoughDielectric<AnyNdf> {
     /// evaluates a batch: a Student-T NDF through its [`TabulatedStudentT`] (Lambda's continued
     /// fractions interpolated, to a few ulps of the exact ones; the table, tens of
     /// microseconds, is paid once per batch), so that `stfit eval` and the Python package print
-    /// the same digits.
+    /// the same digits. Directions off unit length by more than rounding (accepted within a
+    /// tolerance, as front ends do) are scaled to unit length first ([`to_unit`]).
     pub fn f_cos_batch(&self, pairs: &[(Vec3, Vec3)]) -> Vec<f64> {
+        let unit = |&(wi, wo): &(Vec3, Vec3)| (to_unit(wi), to_unit(wo));
         match self.ndf {
             AnyNdf::StudentT(st) => {
                 let fast = self.with_ndf(TabulatedStudentT::new(st));
-                pairs.iter().map(|&(wi, wo)| fast.f_cos(wi, wo)).collect()
+                pairs
+                    .iter()
+                    .map(unit)
+                    .map(|(wi, wo)| fast.f_cos(wi, wo))
+                    .collect()
             }
-            _ => pairs.iter().map(|&(wi, wo)| self.f_cos(wi, wo)).collect(),
+            _ => pairs
+                .iter()
+                .map(unit)
+                .map(|(wi, wo)| self.f_cos(wi, wo))
+                .collect(),
         }
     }
 }

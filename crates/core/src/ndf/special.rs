@@ -18,7 +18,7 @@ const CODY_2: f64 = 4.0;
 /// `x^2` and its rounding error `lo` (`x^2 = hi + lo` exactly), by Veltkamp's split and
 /// Dekker's product: plain arithmetic, since without a target FMA `mul_add` is a library call.
 #[inline]
-fn square_with_error(x: f64) -> (f64, f64) {
+pub(crate) fn square_with_error(x: f64) -> (f64, f64) {
     let c = 134_217_729.0 * x;
     let xh = c - (c - x);
     let xl = x - xh;

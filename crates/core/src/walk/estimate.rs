@@ -48,6 +48,58 @@ pub fn defined_stderr(walks: u64, stderr: f64) -> Option<f64> {
     (walks >= 2 && stderr.is_finite()).then_some(stderr)
 }
 
+/// One-sided 95% upper bound on the probability that a walk reaches a side of the surface
+/// that none of `walks > 0` independent walks reached: the `p` with `(1 - p)^N = 0.05`,
+/// `1 - 0.05^(1/N)` (about `3 / N`, the "rule of three"), formed as `-expm1(ln(0.05) / N)`
+/// so that it keeps its digits for large `N`. A standard error of 0 would claim a side known
+/// to be exactly empty.
+pub fn unreached_upper_bound(walks: u64) -> f64 {
+    -(0.05f64.ln() / walks as f64).exp_m1()
+}
+
+/// How well one side of an albedo estimate is known, as it is reported.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SideError {
+    /// The standard error of the estimate.
+    Stderr(f64),
+    /// No walk reached the side (its estimate is exactly 0): the one-sided 95% upper bound
+    /// [`unreached_upper_bound`].
+    UpperBound(f64),
+    /// A side that walks reached, with fewer than 2 walks: no standard error
+    /// ([`defined_stderr`]).
+    Undefined,
+}
+
+impl SideError {
+    /// The error of a side with estimate `value` and standard error `stderr` over `walks`
+    /// walks.
+    pub fn of(walks: u64, value: f64, stderr: f64) -> Self {
+        if walks > 0 && value == 0.0 && stderr == 0.0 {
+            return Self::UpperBound(unreached_upper_bound(walks));
+        }
+        match defined_stderr(walks, stderr) {
+            Some(se) => Self::Stderr(se),
+            None => Self::Undefined,
+        }
+    }
+
+    /// The standard error, if there is one.
+    pub fn stderr(self) -> Option<f64> {
+        match self {
+            Self::Stderr(se) => Some(se),
+            _ => None,
+        }
+    }
+
+    /// The upper bound of an unreached side, if this is one.
+    pub fn upper_bound(self) -> Option<f64> {
+        match self {
+            Self::UpperBound(b) => Some(b),
+            _ => None,
+        }
+    }
+}
+
 /// Fractions of the incident flux leaving on the side of the light (reflectance) and on the
 /// other side (transmittance), for the selected scattering orders, with no radiance `1/eta^2`
 /// scaling (a non-absorbing dielectric gives `reflectance + transmittance = 1`).
@@ -68,6 +120,18 @@ pub struct AlbedoEstimate {
     pub truncated: f64,
     /// Number of walks.
     pub walks: u64,
+}
+
+impl AlbedoEstimate {
+    /// The reflectance's standard error, or its upper bound when no walk was reflected.
+    pub fn reflectance_error(&self) -> SideError {
+        SideError::of(self.walks, self.reflectance, self.reflectance_stderr)
+    }
+
+    /// The transmittance's standard error, or its upper bound when no walk was transmitted.
+    pub fn transmittance_error(&self) -> SideError {
+        SideError::of(self.walks, self.transmittance, self.transmittance_stderr)
+    }
 }
 
 /// Running mean and sum of squared deviations of a per-walk quantity (Welford, merged with
@@ -554,5 +618,53 @@ pub(crate) fn albedo<W: Walker>(
             0.0
         },
         walks,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn estimate(reflectance: f64, transmittance: f64, walks: u64) -> AlbedoEstimate {
+        AlbedoEstimate {
+            reflectance,
+            transmittance,
+            reflectance_stderr: 0.0,
+            transmittance_stderr: if transmittance > 0.0 { 0.01 } else { 0.0 },
+            mean_bounces: Some(1.0),
+            truncated: 0.0,
+            walks,
+        }
+    }
+
+    /// A side no walk reached has the one-sided 95% bound `1 - 0.05^(1/N)` (`(1 - p)^N = 0.05`
+    /// holds for it; about 3/N for large N, and 0.95 for one walk), not a standard error of 0;
+    /// a reached side keeps its standard error, which is undefined for one walk.
+    #[test]
+    fn unreached_side_reports_an_upper_bound_not_a_zero_stderr() {
+        for n in [1u64, 2, 10, 40_000, 1_000_000_000] {
+            let b = unreached_upper_bound(n);
+            let coverage = (n as f64 * (-b).ln_1p()).exp();
+            assert!(
+                (coverage - 0.05).abs() < 1e-13,
+                "N {n}: {b} gives {coverage}"
+            );
+        }
+        assert!((unreached_upper_bound(1) - 0.95).abs() < 1e-15);
+        assert!(
+            (unreached_upper_bound(1_000_000_000) * 1e9 / 0.05f64.ln().abs() - 1.0).abs() < 1e-8
+        );
+        let a = estimate(0.0, 1.0, 40_000);
+        let bound = SideError::UpperBound(unreached_upper_bound(40_000));
+        assert_eq!(a.reflectance_error(), bound);
+        assert_eq!(a.reflectance_error().stderr(), None);
+        assert_eq!(a.transmittance_error(), SideError::Stderr(0.01));
+        assert_eq!(a.transmittance_error().upper_bound(), None);
+        let one = estimate(0.0, 1.0, 1);
+        assert_eq!(
+            one.reflectance_error(),
+            SideError::UpperBound(unreached_upper_bound(1))
+        );
+        assert_eq!(one.transmittance_error(), SideError::Undefined);
     }
 }

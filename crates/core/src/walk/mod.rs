@@ -73,9 +73,9 @@ pub use cost::{
 };
 pub use engine::{WalkEnd, WalkSample};
 pub use estimate::{
-    AlbedoEstimate, Batched, CHUNK, Estimate, Estimator, PairEstimate, chunk_walks, defined_stderr,
-    direction_seed, distinct_incidences, eval_pairs, eval_pairs_batched, eval_pairs_with_progress,
-    walks_from_each_wo,
+    AlbedoEstimate, Batched, CHUNK, Estimate, Estimator, PairEstimate, SideError, chunk_walks,
+    defined_stderr, direction_seed, distinct_incidences, eval_pairs, eval_pairs_batched,
+    eval_pairs_with_progress, unreached_upper_bound, walks_from_each_wo,
 };
 pub use facet::{
     BsdfFacet, ConductorFacet, DielectricFacet, Facet, FacetSample, HeightFieldHit,

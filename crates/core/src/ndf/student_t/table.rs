@@ -157,11 +157,11 @@ impl BetaFractions for FractionTable {
 /// Chebyshev nodes), for batches of many directions: D and the sampler are the NDF's own.
 ///
 /// Agrees with [`StudentT`]'s exact fractions to a few ulps (the interpolants are built
-/// from them). Building evaluates the exact fractions about 140 times at gamma 2.8 and 530
-/// times at gamma 1000 (19 and 132 us, criterion medians of `cargo bench -p stfit-core
-/// --bench ndf -- build`), and Lambda at gamma 2.8 and 60 degrees then takes 28.6 ns instead
-/// of 54.9 ns, so it pays from a few thousand Lambda evaluations with one NDF. For gamma above
-/// [`TabulatedStudentT::MAX_GAMMA`] it evaluates the fractions exactly.
+/// from them). Building evaluates the exact fractions about 140 times at gamma 2.8 (19 us,
+/// criterion median of `cargo bench -p stfit-core --bench ndf -- build`), and Lambda at gamma
+/// 2.8 and 60 degrees then takes 28.6 ns instead of 54.9 ns, so it pays from a few thousand
+/// Lambda evaluations with one NDF. For gamma above [`TabulatedStudentT::MAX_GAMMA`] it is the
+/// exact NDF, whose Lambda there comes from a Gauss rule, not from the fractions.
 ///
 /// ```
 /// use stfit_core::ndf::{Ndf, StudentT, TabulatedStudentT};
@@ -180,9 +180,11 @@ pub struct TabulatedStudentT {
 }
 
 impl TabulatedStudentT {
-    /// Shapes above this one keep the exact continued fractions: the binades of the lower
-    /// fraction grow as `log2 gamma` and its steps as `sqrt gamma`.
-    pub const MAX_GAMMA: f64 = 1e3;
+    /// Shapes above this one have no table: [`StudentT`] computes Lambda there by a Gauss
+    /// rule over its Gamma superposition ([`StudentT::QUADRATURE_GAMMA`]), not by the continued
+    /// fractions that a table would interpolate (they lose up to 3.4e-7 of Lambda by gamma
+    /// 1e8; the table of gamma 1e3 took 132 us to build and matched them, not Lambda).
+    pub const MAX_GAMMA: f64 = StudentT::QUADRATURE_GAMMA;
 
     /// The tabulated form of `ndf`.
     pub fn new(ndf: StudentT) -> Self {
@@ -230,7 +232,8 @@ mod tests {
     use super::*;
 
     /// The interpolated fractions against the exact ones over a dense sweep of each
-    /// fraction's whole range, for shapes from near 3/2 to `MAX_GAMMA`. The differences are the
+    /// fraction's whole range, for shapes from near 3/2 to 1e3 (beyond `MAX_GAMMA`, where no table
+    /// is built any more, as a check of the interpolation itself). The differences are the
     /// exact fractions' own rounding (they stay the same with 16 coefficients as with 12): a
     /// few ulps, growing for the lower fraction with gamma as its steps grow and as its
     /// argument `x = 1 - u` nears 1, where an ulp of `x` is a larger part of `1 - x`.
@@ -278,8 +281,9 @@ mod tests {
     /// terms of `excess` cancel to `1/k^2` of their size, which scales the fractions' few-ulp
     /// differences. At gamma 1000 the two terms also cancel near the horizon, and both forms
     /// are off by about 5e-13 (sigma at z = -0.648: mpmath 2.8328388000062923e-4, exact
-    /// 2.8328388000048920e-4, tabulated 2.8328388000079060e-4), so the bound is 1e-12 there.
-    /// Above `MAX_GAMMA` it is the exact NDF.
+    /// 2.8328388000048920e-4, tabulated 2.8328388000079060e-4: both were the fractions then;
+    /// now both are the Gauss rule), so the bound is 1e-12 there. Above `MAX_GAMMA` it is the
+    /// exact NDF.
     #[test]
     fn lambda_and_sigma_match_the_exact_ndf() {
         for gamma in [1.6, 2.0, 2.8, 3.0, 7.5, 50.0, 1e3, 2e3] {
