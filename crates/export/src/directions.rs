@@ -205,9 +205,9 @@ fn lobe_width(
 /// `alpha`, graded about the specular peak (mirror of `wi` about the macro-normal) in its
 /// hemisphere and about the refracted peak (Snell's law through the macro-normal) in the
 /// other, both in polar angle from the hemisphere's pole and in azimuth from the plane of
-/// incidence: panels `h 2^k` wide away from the peak up to [`MAX_PANEL`], `h` a quarter of the
-/// lobe's width ([`lobe_width`]); `refine` 1 divides `h` by 4 and the widest panel by 2 and
-/// takes 6 instead of 4 Gauss-Legendre nodes per panel ([`PANEL_NODES`]).
+/// incidence: panels `h 2^k` wide away from the peak up to `MAX_PANEL`, `h` a quarter of the
+/// lobe's width (`lobe_width`); `refine` 1 divides `h` by 4 and the widest panel by 2 and
+/// takes 6 instead of 4 Gauss-Legendre nodes per panel (`PANEL_NODES`).
 /// A hemisphere without a peak (total internal reflection) keeps the standard nodes. Same
 /// measure and total weight as [`SphereSet::standard`]'s rows.
 pub fn graded_row(wi: Vec3, eta: f64, alpha: f64, refine: usize) -> Row {

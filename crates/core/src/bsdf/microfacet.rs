@@ -449,7 +449,7 @@ impl HalfVector {
 
     /// [`HalfVector::dielectric_fresnel`] of the pair `(wi, wo)` it was made from: for
     /// reflection the incident `sin^2` comes from the difference of the two directions
-    /// ([`reflection_sin2`]), not from `1 - (wi.h)^2`, which inherits the absolute rounding of
+    /// (`reflection_sin2`), not from `1 - (wi.h)^2`, which inherits the absolute rounding of
     /// the dot product and of `h` (relative `1e-16 / sin^2`). Near the critical angle of eta
     /// 100 or 0.01 (`sin^2 = 1e-4`) the transmitted cosine `sqrt(1 - sin^2 / eta_t^2)`
     /// magnifies that: 1.7e-6 of F was lost within 1e-9 of the critical sine, 3.7e-10 now

@@ -200,7 +200,7 @@ impl StudentT {
     pub const MAX_POWER: i32 = 16;
 
     /// Above this shape Lambda and sigma are computed by a Gauss rule over the Gamma
-    /// superposition ([`StudentT::tail_by_superposition`]) rather than by the incomplete-beta
+    /// superposition (`StudentT::tail_by_superposition`) rather than by the incomplete-beta
     /// continued fractions, whose two terms cancel there: at gamma 1e8 those lost 3.4e-7 of
     /// Lambda (1e-9 at gamma 1e6). Below it the fractions are kept as they were.
     pub const QUADRATURE_GAMMA: f64 = 100.0;
