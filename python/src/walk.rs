@@ -201,6 +201,22 @@ impl PyMicrosurface {
 #[pyclass(module = "stfit", frozen)]
 pub struct Albedo(AlbedoEstimate);
 
+impl Albedo {
+    /// The fields' bits, what `__eq__` and `__hash__` compare.
+    fn key(&self) -> ([u64; 5], Option<u64>, u64) {
+        let a = &self.0;
+        let numbers = [
+            a.reflectance,
+            a.transmittance,
+            a.reflectance_stderr,
+            a.transmittance_stderr,
+            a.truncated,
+        ]
+        .map(ndf::bits);
+        (numbers, a.mean_bounces.map(ndf::bits), a.walks)
+    }
+}
+
 #[pymethods]
 impl Albedo {
     #[getter]
@@ -265,6 +281,17 @@ impl Albedo {
             pm(self.0.transmittance_error())?,
             self.0.walks
         ))
+    }
+
+    /// Equal when every field is the same number (bit for bit, so an undefined standard
+    /// error, NaN inside, equals itself and a pickled copy equals its original).
+    fn __eq__(&self, other: &Bound<'_, Self>) -> bool {
+        self.key() == other.get().key()
+    }
+
+    /// Consistent with `__eq__`.
+    fn __hash__(&self) -> u64 {
+        ndf::hash_of(self.key())
     }
 
     /// The estimate of its fields as `__reduce__` gives them (for pickle).

@@ -170,8 +170,8 @@ class Albedo:
     events per walk that left within the orders: the path length, which facet albedos do not
     change, since they weight a walk rather than end it; None when no walk left within the
     orders, as ``stfit albedo --json`` gives null), the fraction
-    ``truncated`` dropped at the safety cap, and ``walks``. Pickles with every number
-    exact."""
+    ``truncated`` dropped at the safety cap, and ``walks``. Compares and hashes by value;
+    pickles with every number exact."""
 
     reflectance: float
     transmittance: float
@@ -182,6 +182,10 @@ class Albedo:
     mean_bounces: Optional[float]
     truncated: float
     walks: int
+    def __eq__(self, other: object) -> bool:
+        """Equal when every field is the same number (an undefined standard error equals
+        itself)."""
+    def __hash__(self) -> int: ...
 
 class Microsurface:
     """The multiple-scattering dielectric microsurface: the height-field random walk of Heitz

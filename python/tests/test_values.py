@@ -98,3 +98,18 @@ def test_values_pickle():
     assert repr(back) == repr(a)
     one = stfit.Microsurface(stfit.Ggx(0.3), 1.5).albedo(UP, walks=1)
     assert pickle.loads(pickle.dumps(one)).reflectance_stderr is None
+
+
+def test_albedo_compares_and_hashes_by_value():
+    """Albedo estimates are equal when every field is the same number (an undefined standard
+    error too: a 1-walk estimate equals its pickled copy), and hash consistently; another seed
+    or count of walks gives a different estimate. Albedo had identity equality only."""
+    surface = stfit.Microsurface(stfit.Ggx(0.3), 1.5)
+    a = surface.albedo([0.6, 0.0, 0.8], walks=100, seed=7)
+    again = surface.albedo([0.6, 0.0, 0.8], walks=100, seed=7)
+    assert a == again and hash(a) == hash(again) and len({a, again}) == 1
+    assert a != surface.albedo([0.6, 0.0, 0.8], walks=100, seed=8)
+    assert a != surface.albedo([0.6, 0.0, 0.8], walks=101, seed=7)
+    one = surface.albedo(UP, walks=1)
+    assert pickle.loads(pickle.dumps(one)) == one
+    assert a != one and a != "albedo"
