@@ -3,7 +3,7 @@
 use super::microfacet::{HalfVector, Masking, SmithTerm, projected_area, reflect, refract, upper};
 use super::{AnalyticBsdf, Bsdf, BsdfSample, fresnel_dielectric};
 use crate::error::{ParamError, check_eta};
-use crate::math::{Vec3, to_unit};
+use crate::math::Vec3;
 use crate::ndf::{AnyNdf, Ndf, TabulatedStudentT};
 use rand::{Rng, RngExt};
 
@@ -115,24 +115,16 @@ impl RoughDielectric<AnyNdf> {
     /// evaluates a batch: a Student-T NDF through its [`TabulatedStudentT`] (Lambda's continued
     /// fractions interpolated, to a few ulps of the exact ones; the table, tens of
     /// microseconds, is paid once per batch), so that `stfit eval` and the Python package print
-    /// the same digits. Directions off unit length by more than rounding (accepted within a
-    /// tolerance, as front ends do) are scaled to unit length first ([`to_unit`]).
+    /// the same digits. Like [`AnalyticBsdf::f_cos`] it takes the directions as given: front ends
+    /// scale those they accept within a tolerance to unit length where they accept them
+    /// ([`to_unit`](crate::math::to_unit)).
     pub fn f_cos_batch(&self, pairs: &[(Vec3, Vec3)]) -> Vec<f64> {
-        let unit = |&(wi, wo): &(Vec3, Vec3)| (to_unit(wi), to_unit(wo));
         match self.ndf {
             AnyNdf::StudentT(st) => {
                 let fast = self.with_ndf(TabulatedStudentT::new(st));
-                pairs
-                    .iter()
-                    .map(unit)
-                    .map(|(wi, wo)| fast.f_cos(wi, wo))
-                    .collect()
+                pairs.iter().map(|&(wi, wo)| fast.f_cos(wi, wo)).collect()
             }
-            _ => pairs
-                .iter()
-                .map(unit)
-                .map(|(wi, wo)| self.f_cos(wi, wo))
-                .collect(),
+            _ => pairs.iter().map(|&(wi, wo)| self.f_cos(wi, wo)).collect(),
         }
     }
 }
