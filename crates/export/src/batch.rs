@@ -156,7 +156,7 @@ pub fn export_fits(
             }
         })
         .collect();
-    let made: Vec<FitExport> = items.iter().filter_map(|i| i.clone().ok()).collect();
+    let made: Vec<&FitExport> = items.iter().filter_map(|i| i.as_ref().ok()).collect();
     let outputs = outputs(&made, target, dest)?;
     Ok(Batch { items, outputs })
 }
@@ -222,7 +222,7 @@ fn distinct_identifiers(fits: &[&FitResult]) -> Result<(), BatchError> {
 /// The texts of `exports` laid out for `dest` ([`Destination`]); refuses a file destination
 /// that would receive two file types ([`BatchError::SamePath`]).
 fn outputs(
-    exports: &[FitExport],
+    exports: &[&FitExport],
     target: Target,
     dest: Destination<'_>,
 ) -> Result<Vec<Output>, BatchError> {
