@@ -380,6 +380,29 @@ mod tests {
         assert!(graded.iter().all(|z| z.abs() < 0.1), "{graded:?}");
     }
 
+    /// Where even the graded nodes do not resolve a lobe (here a GGX lobe of alpha 1e-4
+    /// graded as if its alpha were 0.05, so the refined nodes are still 40 times coarser than
+    /// it), every incidence with a peak is graded and warned, naming its side and angle.
+    #[test]
+    fn a_lobe_the_graded_nodes_miss_is_warned() {
+        let g = glass(Ggx::new(1e-4).unwrap().into(), 1.51);
+        let (set, warnings) = resolved(|wi, wo| g.f_cos(wi, wo), 1.51, 0.05);
+        assert!(!warnings.is_empty());
+        for w in &warnings {
+            assert!(
+                w.contains("resolve the lobe's albedo only to")
+                    && (w.contains("from outside") || w.contains("from inside")),
+                "{w}"
+            );
+        }
+        let graded = set
+            .rows
+            .iter()
+            .filter(|r| r.outgoing.len() != N_THETA * N_PHI * 2)
+            .count();
+        assert!(graded >= warnings.len(), "{graded} {warnings:?}");
+    }
+
     /// A graded row has the measure and total weight of a standard one (`2 pi^2`, the
     /// scan-plane measure of the sphere), so that rows compare alike.
     #[test]
