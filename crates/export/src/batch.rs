@@ -115,6 +115,18 @@ pub enum BatchError {
         second: String,
         id: String,
     },
+    /// Two selected fits written to one folder have identifiers that differ only in case
+    /// (samples `Frosted` and `frosted`): file systems that ignore case (macOS's and Windows'
+    /// defaults) would write both to one file.
+    #[error(
+        "{first} and {second} export as '{id}' and '{other}', which name one file where file names ignore case (macOS, Windows): rename a sample, select one of them (by sample and model) or write them into one file"
+    )]
+    SameNameIgnoringCase {
+        first: String,
+        second: String,
+        id: String,
+        other: String,
+    },
     /// One file destination whose name has the extension of a file type other than the first,
     /// which goes beside it with that extension: both would be written to `path`.
     #[error(
@@ -130,8 +142,9 @@ pub enum BatchError {
 /// Exports every fit of `fits` that `selection` matches to `target` (`radiance`: the options
 /// of [`Target::Radiance`], ignored by the other targets) and lays out the texts for `dest`.
 /// Fails before exporting anything when no fit matches, when Radiance would need several
-/// files in one, or when two fits have the same identifier ([`BatchError::SameName`]); fails
-/// before writing anything when two files of one destination would have the same path
+/// files in one, or when two fits have the same identifier ([`BatchError::SameName`]; in a
+/// folder, the same ignoring case, [`BatchError::SameNameIgnoringCase`]); fails before writing
+/// anything when two files of one destination would have the same path, ignoring case
 /// ([`BatchError::SamePath`]).
 pub fn export_fits(
     fits: &[FitResult],
@@ -189,7 +202,7 @@ pub fn select_fits<'a>(
     if target == Target::Radiance && selected.len() > 1 && !matches!(dest, Destination::Folder(_)) {
         return Err(BatchError::OneFilePerFit);
     }
-    distinct_identifiers(&selected)?;
+    distinct_identifiers(&selected, matches!(dest, Destination::Folder(_)))?;
     Ok(selected)
 }
 
@@ -204,15 +217,28 @@ pub fn radiance_walk_seconds(selected: &[&FitResult], radiance: &RadianceOptions
         .sum()
 }
 
-/// Refuses two fits with the same identifier ([`BatchError::SameName`]).
-fn distinct_identifiers(fits: &[&FitResult]) -> Result<(), BatchError> {
-    for (k, fit) in fits.iter().enumerate() {
-        let id = fit_identifier(fit);
-        if let Some(first) = fits[..k].iter().find(|f| fit_identifier(f) == id) {
+/// Refuses two fits with the same identifier ([`BatchError::SameName`]) and, when each fit
+/// gets its own file (`files`), two whose identifiers differ only in case
+/// ([`BatchError::SameNameIgnoringCase`]).
+fn distinct_identifiers(fits: &[&FitResult], files: bool) -> Result<(), BatchError> {
+    let ids: Vec<String> = fits.iter().map(|f| fit_identifier(f)).collect();
+    for (k, id) in ids.iter().enumerate() {
+        if let Some(j) = ids[..k].iter().position(|other| other == id) {
             return Err(BatchError::SameName {
-                first: first.label(),
-                second: fit.label(),
-                id,
+                first: fits[j].label(),
+                second: fits[k].label(),
+                id: id.clone(),
+            });
+        }
+        if !files {
+            continue;
+        }
+        if let Some(j) = ids[..k].iter().position(|o| o.eq_ignore_ascii_case(id)) {
+            return Err(BatchError::SameNameIgnoringCase {
+                first: fits[j].label(),
+                second: fits[k].label(),
+                id: ids[j].clone(),
+                other: id.clone(),
             });
         }
     }
@@ -241,11 +267,12 @@ fn outputs(
         }],
         Destination::File(out) => {
             let files = joined();
-            if let Some(f) = files
-                .iter()
-                .skip(1)
-                .find(|f| out.with_extension(f.extension) == out)
-            {
+            if let Some(f) = files.iter().skip(1).find(|f| {
+                // `scene.PY` and `scene.py` are one file where file names ignore case.
+                out.extension()
+                    .and_then(|e| e.to_str())
+                    .is_some_and(|e| e.eq_ignore_ascii_case(f.extension))
+            }) {
                 return Err(BatchError::SamePath {
                     path: out.display().to_string(),
                     first: files[0].extension,
@@ -377,6 +404,26 @@ mod tests {
         assert!(export(&fits[..2], Destination::Folder(Path::new("out"))).is_ok());
     }
 
+    /// Identifiers that differ only in case (`Frosted` and `frosted`) would write one file in
+    /// a folder on a file system that ignores case: refused there, naming both fits; in one
+    /// file they are distinct names and are exported.
+    #[test]
+    fn identifiers_differing_in_case_alone_are_refused_in_a_folder() {
+        let fits = [fit("Frosted"), fit("frosted")];
+        let e = export(&fits, Destination::Folder(Path::new("out"))).unwrap_err();
+        assert!(matches!(e, BatchError::SameNameIgnoringCase { .. }), "{e}");
+        let e = e.to_string();
+        assert!(
+            e.contains("sample 'Frosted'")
+                && e.contains("sample 'frosted'")
+                && e.contains("'Frosted_beckmann'")
+                && e.contains("'frosted_beckmann'"),
+            "{e}"
+        );
+        let batch = export(&fits, Destination::Stdout).unwrap();
+        assert_eq!(batch.exports().count(), 2);
+    }
+
     /// Each character outside [A-Za-z0-9] becomes one `_`, whatever its length in UTF-8.
     #[test]
     fn identifiers_replace_each_character_once() {
@@ -411,9 +458,11 @@ mod tests {
                 Destination::File(Path::new(out)),
             )
         };
-        let e = mitsuba("scene.py").unwrap_err();
-        assert!(matches!(e, BatchError::SamePath { .. }), "{e}");
-        assert!(e.to_string().contains("scene.py"), "{e}");
+        for out in ["scene.py", "scene.PY", "dir.v2/scene.Py"] {
+            let e = mitsuba(out).unwrap_err();
+            assert!(matches!(e, BatchError::SamePath { .. }), "{out}: {e}");
+            assert!(e.to_string().contains(out), "{e}");
+        }
         let paths: Vec<_> = mitsuba("scene.xml")
             .unwrap()
             .outputs
