@@ -1,10 +1,11 @@
 """The long-run notes' estimates against the runs they announce: for `eval` with random walks,
-`albedo` and `export --to radiance` of a pane, the time the pilot run said on stderr and the
-wall time the run then took.
+`albedo`, `export --to radiance` of a pane and `export --to mitsuba3` of an all-orders fit, the
+time the pilot run said on stderr and the wall time the run then took.
 
 Usage: python3 python/bench/long_run_estimates.py [SCALE]   (from the repository root, after
 `cargo build --release`; SCALE multiplies every run's walks, default 1: each run is announced
-as about 15 to 60 s on an idle 2-core machine)
+as about 15 to 60 s on an idle 2-core machine; the all-orders fit of fits/example.csv that the
+last run exports takes a few seconds more, unannounced)
 
 The `eval` pairs are 200 incident directions (theta_i 0.2 to 89 degrees, phi_i 0) with 8
 outgoing directions each, 1,600 pairs, written to a temporary file.
@@ -67,3 +68,9 @@ with tempfile.TemporaryDirectory() as tmp:
     run("export --to radiance, a pane of the example Student-T fit",
         [stfit, "export", "fits/example-fits.json", "--to", "radiance", "--sample", "frosted", "--model", "student-t",
          "--walks", str(int(300_000 * scale)), "--out", os.path.join(tmp, "out") + "/"])
+    fit = os.path.join(tmp, "all-orders.json")
+    subprocess.run([stfit, "fits/example.csv", "--sample", "frosted", "--model", "ggx",
+                    "--orders", "all", "--walks", str(int(100_000 * scale)), "--json", "--out",
+                    fit], check=True, stdout=subprocess.DEVNULL)
+    run("export --to mitsuba3, an all-orders GGX fit of the example's frosted sample",
+        [stfit, "export", fit, "--to", "mitsuba3", "--out", os.path.join(tmp, "scene.xml")])

@@ -9,7 +9,7 @@ use stfit_core::walk::{LONG_RUN_SECONDS, describe_seconds};
 use stfit_export::radiance::{DEFAULT_WALKS_PER_PATCH, LayerKind, QuadratureRule, RadianceOptions};
 use stfit_export::{
     BatchError, Destination, FitExport, Selection, Target, export_fits, radiance_walk_seconds,
-    radiance_walks_apply, select_fits,
+    radiance_walks_apply, reference_walk_seconds, select_fits,
 };
 use stfit_fit::{FitsFile, ModelKind};
 
@@ -195,14 +195,24 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
         e @ BatchError::SamePath { .. } => usage(format!("--out: {e}")),
         e => failed(format!("{}: {e}", args.fits.display())),
     };
+    let selected = select_fits(&file.fits, &selection, target, dest).map_err(batch_error)?;
     if target == Target::Radiance {
-        let selected = select_fits(&file.fits, &selection, target, dest).map_err(batch_error)?;
         let seconds = radiance_walk_seconds(&selected, &radiance);
         if seconds > LONG_RUN_SECONDS {
             eprintln!(
                 "note: the random walks of this export ({} per Klems patch) will take about {} \
                  (fewer --walks make it shorter)",
                 radiance.walks_per_patch,
+                describe_seconds(seconds)
+            );
+        }
+    } else {
+        let seconds = reference_walk_seconds(&selected);
+        if seconds > LONG_RUN_SECONDS {
+            eprintln!(
+                "note: the all-orders fits' own random walks, which give their values over the \
+                 sphere of directions the translation is measured on, will take about {} \
+                 (fits with fewer --walks make it shorter)",
                 describe_seconds(seconds)
             );
         }

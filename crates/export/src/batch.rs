@@ -217,6 +217,20 @@ pub fn radiance_walk_seconds(selected: &[&FitResult], radiance: &RadianceOptions
         .sum()
 }
 
+/// Estimated wall time, in seconds, of the random walks of an export of `selected`
+/// ([`select_fits`]) to a renderer target (not Radiance, whose walks
+/// [`radiance_walk_seconds`] estimates), for a note before a long run: the reference over the
+/// sphere of directions of each all-orders fit runs the fit's own walks
+/// ([`Reference::walk_seconds`](crate::translate::Reference::walk_seconds), summed over the
+/// fits). A fit that cannot be exported counts 0: [`export_fits`] reports it.
+pub fn reference_walk_seconds(selected: &[&FitResult]) -> f64 {
+    selected
+        .iter()
+        .filter_map(|f| ExportModel::from_fit(f).ok())
+        .map(|m| crate::translate::Reference::walk_seconds(&m).unwrap_or(0.0))
+        .sum()
+}
+
 /// Refuses two fits with the same identifier ([`BatchError::SameName`]) and, when each fit
 /// gets its own file (`files`), two whose identifiers differ only in case
 /// ([`BatchError::SameNameIgnoringCase`]).
@@ -422,6 +436,22 @@ mod tests {
         );
         let batch = export(&fits, Destination::Stdout).unwrap();
         assert_eq!(batch.exports().count(), 2);
+    }
+
+    /// Only all-orders fits run walks for their reference: a selection of single-scattering
+    /// fits costs none; an all-orders fit (here the frosted example's Beckmann fit with 2,000
+    /// walks per incidence) some.
+    #[test]
+    fn only_all_orders_fits_have_reference_walks() {
+        let single = fit("s");
+        assert_eq!(reference_walk_seconds(&[&single]), 0.0);
+        let mut all = fit("a");
+        all.model.orders = ScatteringOrders::All;
+        all.model.masking = stfit_core::bsdf::Masking::Correlated;
+        all.model.walks = Some(2000);
+        all.model.seed = Some(1);
+        let s = reference_walk_seconds(&[&single, &all]);
+        assert!(s > 0.0 && s.is_finite(), "{s}");
     }
 
     /// Each character outside [A-Za-z0-9] becomes one `_`, whatever its length in UTF-8.

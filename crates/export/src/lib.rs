@@ -31,7 +31,7 @@ pub mod translate;
 
 pub use batch::{
     Batch, BatchError, Destination, FitExport, Item, Output, Refused, export_fits,
-    radiance_walk_seconds, radiance_walks_apply, select_fits,
+    radiance_walk_seconds, radiance_walks_apply, reference_walk_seconds, select_fits,
 };
 pub use error::ExportError;
 pub use model::ExportModel;

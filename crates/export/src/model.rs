@@ -126,6 +126,15 @@ impl ExportModel {
         Ok(Microsurface::new(self.ndf, facet).with_orders(orders))
     }
 
+    /// Estimated wall time, in seconds, of the walks of [`Self::forward_values`] at `pairs` on
+    /// rayon's current pool, for a note before a long export ([`Forward::walk_seconds`]): 0 for
+    /// a single-scattering model.
+    pub fn forward_walk_seconds(&self, pairs: &[(Vec3, Vec3)]) -> Result<f64, ExportError> {
+        Ok(self
+            .forward(pairs)?
+            .walk_seconds(&self.ndf, self.model.eta)?)
+    }
+
     /// The fitted model's value `q_j f(wi_j, wo_j)` at every pair, by the library's forward
     /// model (the one the fit used: for all orders, its walks and seed); `f` is the BSDF and
     /// `q_j` the quantity per unit BSDF value.
@@ -134,19 +143,25 @@ impl ExportModel {
         pairs: &[(Vec3, Vec3)],
         q: Vec<f64>,
     ) -> Result<Vec<f64>, ExportError> {
+        let forward = self.forward(pairs)?;
+        let mut out = Vec::with_capacity(pairs.len());
+        forward.unit_model(&self.ndf, self.model.eta, &mut out)?;
+        out.iter_mut().zip(&q).for_each(|(v, q)| *v *= q);
+        Ok(out)
+    }
+
+    /// The library's forward model of the fit (its masking, orders, walks and seed) at `pairs`,
+    /// each valued as a BSDF.
+    fn forward(&self, pairs: &[(Vec3, Vec3)]) -> Result<Forward, ExportError> {
         let m = &self.model;
-        let forward = Forward::new(
+        Ok(Forward::new(
             pairs,
             vec![Quantity::Bsdf; pairs.len()],
             m.masking,
             m.orders,
             m.walks.unwrap_or(0),
             m.seed.unwrap_or(0),
-        )?;
-        let mut out = Vec::with_capacity(pairs.len());
-        forward.unit_model(&self.ndf, m.eta, &mut out)?;
-        out.iter_mut().zip(&q).for_each(|(v, q)| *v *= q);
-        Ok(out)
+        )?)
     }
 }
 

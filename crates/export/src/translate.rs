@@ -84,6 +84,19 @@ impl Reference {
         Ok(r)
     }
 
+    /// Estimated wall time, in seconds, of the walks of [`Reference::standard`] for `model`
+    /// ([`ExportModel::forward_walk_seconds`] on the standard set's pairs; the graded rows that
+    /// may replace some of them have as many walks): 0 for a single-scattering fit.
+    pub fn walk_seconds(model: &ExportModel) -> Result<f64, ExportError> {
+        let set = SphereSet::standard();
+        let pairs: Vec<(Vec3, Vec3)> = set
+            .rows
+            .iter()
+            .flat_map(|row| row.outgoing.iter().map(move |&wo| (row.wi, wo)))
+            .collect();
+        model.forward_walk_seconds(&pairs)
+    }
+
     /// Warnings for the export: incidences whose lobes even graded outgoing directions do not
     /// resolve, where the translation's error is uncertain.
     pub fn warnings(&self) -> &[String] {

@@ -28,8 +28,8 @@ use stfit_core::bsdf::{HalfVector, Masking};
 use stfit_core::error::check_eta;
 use stfit_core::ndf::{AnyNdf, Ndf};
 use stfit_core::walk::{
-    DielectricFacet, Microsurface, ScatteringOrders, check_walks_from_wo, chunk_walks,
-    eval_pairs_batched,
+    DielectricFacet, Microsurface, ScatteringOrders, WalkCost, check_walks_from_wo, chunk_walks,
+    eval_pairs_batched, pilot_seed,
 };
 use stfit_core::{ParamError, Vec3};
 
@@ -278,13 +278,35 @@ impl Forward {
         Ok(())
     }
 
+    /// The microsurface whose walks give the orders >= 2 term ([`Forward::walk_term`]).
+    fn walk_surface(
+        &self,
+        ndf: &AnyNdf,
+        eta: f64,
+    ) -> Result<Microsurface<AnyNdf, DielectricFacet>, ParamError> {
+        Microsurface::new(*ndf, DielectricFacet::new(eta)?)
+            .with_orders(ScatteringOrders::Multiple)
+            .with_walks_from_wo(self.walks_from_wo)
+    }
+
+    /// Estimated wall time, in seconds, of [`Forward::walk_term`] on rayon's current pool, from
+    /// a pilot run of the same walks ([`WalkCost::measure_pairs`]: random numbers of its own,
+    /// at most a sixteenth of the run's work); 0 for single scattering.
+    pub fn walk_seconds(&self, ndf: &AnyNdf, eta: f64) -> Result<f64, ParamError> {
+        if !self.has_walks() {
+            return Ok(0.0);
+        }
+        let surface = self.walk_surface(ndf, eta)?;
+        let cost =
+            WalkCost::measure_pairs(&surface, &self.pairs, self.walks, pilot_seed(self.seed));
+        Ok(cost.seconds(self.walks))
+    }
+
     /// The unit-scale orders >= 2 term of every configuration, in the measured quantity, from
     /// `walks` walks per incident direction ([`Forward::new`]), with its per-chunk means
     /// ([`WalkTerm`]).
     pub fn walk_term(&self, ndf: &AnyNdf, eta: f64) -> Result<WalkTerm, ParamError> {
-        let surface = Microsurface::new(*ndf, DielectricFacet::new(eta)?)
-            .with_orders(ScatteringOrders::Multiple)
-            .with_walks_from_wo(self.walks_from_wo)?;
+        let surface = self.walk_surface(ndf, eta)?;
         let est = eval_pairs_batched(&surface, &self.pairs, self.walks, self.seed);
         let mut term = WalkTerm {
             values: Vec::with_capacity(est.len()),
