@@ -35,7 +35,9 @@ pub use batch::{
 };
 pub use error::ExportError;
 pub use model::ExportModel;
-pub use targets::{Export, ExportFile, Selection, Target, file_name, fit_identifier, join};
+pub use targets::{
+    Export, ExportFile, Selection, Target, XmlPart, file_name, fit_identifier, join,
+};
 
 use stfit_fit::FitResult;
 
@@ -58,6 +60,7 @@ pub fn export_fit(
         files: vec![ExportFile {
             extension: "xml",
             text,
+            xml: None,
         }],
         warnings: Vec::new(),
         translation: None,

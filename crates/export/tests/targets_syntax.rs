@@ -78,6 +78,8 @@ fn mitsuba3_xml_parses_and_names_only_roughdielectric_parameters() {
     let bsdf = doc.root_element();
     assert_eq!(bsdf.tag_name().name(), "bsdf");
     assert_eq!(bsdf.attribute("type"), Some("roughdielectric"));
+    // Mitsuba loads a file (mi.load_file, <include>) only if its root carries a version.
+    assert_eq!(bsdf.attribute("version"), Some("3.0.0"));
     let mut names = Vec::new();
     for c in bsdf.children().filter(|n| n.is_element()) {
         let name = c.attribute("name").unwrap();
@@ -429,6 +431,61 @@ fn hostile_sample_and_data_names_stay_inside_comments() {
                         );
                     }
                 }
+            }
+        }
+    }
+}
+
+/// Several fits in one file: Mitsuba 3's XML is one document, a `scene` with the scene format's
+/// version holding every fit's `bsdf` (as Mitsuba's `<include>` merges a scene's children), and
+/// OpenPBR's one MaterialX document holding every fit's shader and material; a fit's comment
+/// stays with its element. Texts that are not XML documents follow one another.
+#[test]
+fn several_fits_in_one_file_make_one_document() {
+    let ids = ["a_ggx", "b_student_t", "c_beckmann"];
+    let models = [
+        model(ModelKind::Ggx, 0.2, Gamma::NotApplicable),
+        student_t(),
+        model(ModelKind::Beckmann, 0.4, Gamma::NotApplicable),
+    ];
+    for t in [Target::Mitsuba3, Target::OpenPbr, Target::PbrtV4] {
+        let exports: Vec<_> = models
+            .iter()
+            .zip(ids)
+            .map(|(m, id)| targets::export(t, m, id).unwrap())
+            .collect();
+        let joined = stfit_export::join(&exports);
+        let file = &joined[0];
+        let what = format!("{} .{}", t.name(), file.extension);
+        let elements = |tag: &str| -> Vec<String> {
+            let doc = roxmltree::Document::parse(&file.text)
+                .unwrap_or_else(|e| panic!("{what}: {e}\n{}", file.text));
+            let root = doc.root_element();
+            match t {
+                Target::Mitsuba3 => {
+                    assert_eq!(root.tag_name().name(), "scene", "{what}");
+                    assert_eq!(root.attribute("version"), Some("3.0.0"), "{what}");
+                }
+                _ => assert_eq!(root.tag_name().name(), "materialx", "{what}"),
+            }
+            let comments = root.children().filter(|n| n.is_comment()).count();
+            assert_eq!(comments, ids.len(), "{what}: one comment per fit");
+            root.children()
+                .filter(|n| n.tag_name().name() == tag)
+                .map(|n| {
+                    n.attribute("id")
+                        .or(n.attribute("name"))
+                        .unwrap()
+                        .to_string()
+                })
+                .collect()
+        };
+        match t {
+            Target::Mitsuba3 => assert_eq!(elements("bsdf"), ids, "{what}"),
+            Target::OpenPbr => assert_eq!(elements("open_pbr_surface"), ids, "{what}"),
+            _ => {
+                let texts: Vec<&str> = exports.iter().map(|e| e.files[0].text.as_str()).collect();
+                assert_eq!(file.text, texts.join("\n"), "{what}");
             }
         }
     }

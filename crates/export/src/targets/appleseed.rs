@@ -99,6 +99,7 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         files: vec![ExportFile {
             extension: "xml",
             text,
+            xml: None,
         }],
         warnings,
         translation: Some(t),

@@ -144,6 +144,7 @@ def {id}_principled():\n    \
         files: vec![ExportFile {
             extension: "py",
             text,
+            xml: None,
         }],
         warnings,
         translation: Some(glass),

@@ -7,10 +7,14 @@
 //! `specular_reflectance`/`specular_transmittance`. Walter et al. 2007 with separable
 //! `G = smith_g1(wi) smith_g1(wo)` (include/mitsuba/render/microfacet.h; Beckmann's G1 there is
 //! a rational approximation, [`Smith::MitsubaSeparable`]).
+//!
+//! The XML file is a document Mitsuba loads (`mi.load_file`, `<include filename="..."/>` in a
+//! scene): for one fit its `<bsdf>` is the root, with the scene format's `version`; for several,
+//! a `<scene version="3.0.0">` holds their `<bsdf>` elements, each referable by its `id`.
 
 use super::{
-    Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet, warning_notes,
-    xml_comment_text,
+    Export, ExportFile, Family1, Microfacet, XML_DECLARATION, XmlPart, provenance,
+    translate_microfacet, warning_notes, xml_comment_text,
 };
 use crate::target::Smith;
 use crate::translate::{Reference, Translation};
@@ -19,6 +23,10 @@ use stfit_core::ndf::AnyNdf;
 
 /// The roughdielectric parameters stfit writes, all defined by Mitsuba 3.
 pub const PARAMETERS: [&str; 4] = ["distribution", "alpha", "int_ior", "ext_ior"];
+
+/// The Mitsuba 3 scene format version of the files written (src/core/xml.cpp reads files
+/// whose root element carries one).
+pub const SCENE_VERSION: &str = "3.0.0";
 
 /// Mitsuba's smallest alpha: `MicrofacetDistribution::configure` (include/mitsuba/render/microfacet.h)
 /// raises alpha to `max(alpha, 1e-4)`.
@@ -80,15 +88,19 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         ],
     );
     notes.extend(warning_notes(&warnings));
-    let mut xml = String::from("<!--\n");
+    let mut comment = String::from("<!--\n");
     for n in &notes {
-        xml.push_str(&format!("  {}\n", xml_comment_text(n)));
+        comment.push_str(&format!("  {}\n", xml_comment_text(n)));
     }
-    xml.push_str("-->\n");
-    xml.push_str(&format!(
-        "<bsdf type=\"roughdielectric\" id=\"{id}\">\n    <string name=\"distribution\" value=\"{dist}\"/>\n    <float name=\"alpha\" value=\"{alpha}\"/>\n    <float name=\"int_ior\" value=\"{}\"/>\n    <float name=\"ext_ior\" value=\"1\"/>\n</bsdf>\n",
-        model.eta()
-    ));
+    comment.push_str("-->\n");
+    // Mitsuba reads a file (mi.load_file, <include>) whose root element has a version; the
+    // bsdf inside a scene of several fits takes the scene's.
+    let bsdf = |version: &str| {
+        format!(
+            "{comment}<bsdf type=\"roughdielectric\" id=\"{id}\"{version}>\n    <string name=\"distribution\" value=\"{dist}\"/>\n    <float name=\"alpha\" value=\"{alpha}\"/>\n    <float name=\"int_ior\" value=\"{}\"/>\n    <float name=\"ext_ior\" value=\"1\"/>\n</bsdf>\n",
+            model.eta()
+        )
+    };
     let mut py = String::new();
     for n in &notes {
         py.push_str(&format!("# {n}\n"));
@@ -101,11 +113,17 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         files: vec![
             ExportFile {
                 extension: "xml",
-                text: xml,
+                text: bsdf(&format!(" version=\"{SCENE_VERSION}\"")),
+                xml: Some(XmlPart {
+                    open: format!("{XML_DECLARATION}<scene version=\"{SCENE_VERSION}\">\n"),
+                    content: bsdf(""),
+                    close: "</scene>\n",
+                }),
             },
             ExportFile {
                 extension: "py",
                 text: py,
+                xml: None,
             },
         ],
         warnings,

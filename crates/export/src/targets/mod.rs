@@ -64,7 +64,26 @@ impl Target {
 pub struct ExportFile {
     /// File extension without the dot.
     pub extension: &'static str,
+    /// The file of this fit alone.
     pub text: String,
+    /// For an XML file that a renderer reads as a document: this fit's part of a document of
+    /// several fits ([`join`]). `None` where the fits' texts follow one another (scene
+    /// descriptions, scripts, and appleseed's `<bsdf>` elements, which go into a project's
+    /// assembly).
+    pub xml: Option<XmlPart>,
+}
+
+/// The XML declaration that opens an XML document.
+pub const XML_DECLARATION: &str = "<?xml version=\"1.0\"?>\n";
+
+/// A fit's part of one XML document holding several fits: the content that goes inside the
+/// document's root element, and the document's opening (XML declaration and root start tag)
+/// and closing (root end tag), the same for every fit of a target.
+#[derive(Debug, Clone, PartialEq)]
+pub struct XmlPart {
+    pub open: String,
+    pub content: String,
+    pub close: &'static str,
 }
 
 /// What an export produced.
@@ -84,19 +103,43 @@ pub fn file_name(id: &str, target: Target, extension: &str) -> String {
 }
 
 /// The files of several exports joined into one text per file type (extension), in order of
-/// first appearance, the exports' texts separated by a blank line.
+/// first appearance: one export's file as it is; several exports' XML documents
+/// ([`ExportFile::xml`]) as one document, their contents inside one root element, separated by
+/// a blank line; other texts one after another, separated by a blank line.
 pub fn join(exports: &[Export]) -> Vec<ExportFile> {
-    let mut joined: Vec<ExportFile> = Vec::new();
+    let mut groups: Vec<Vec<&ExportFile>> = Vec::new();
     for f in exports.iter().flat_map(|e| &e.files) {
-        match joined.iter_mut().find(|j| j.extension == f.extension) {
-            Some(j) => {
-                j.text.push('\n');
-                j.text.push_str(&f.text);
-            }
-            None => joined.push(f.clone()),
+        match groups.iter_mut().find(|g| g[0].extension == f.extension) {
+            Some(g) => g.push(f),
+            None => groups.push(vec![f]),
         }
     }
-    joined
+    groups
+        .into_iter()
+        .map(|group| match (group.as_slice(), &group[0].xml) {
+            ([one], _) => (*one).clone(),
+            (_, Some(part)) => {
+                let parts: Vec<&str> = group
+                    .iter()
+                    .map(|f| f.xml.as_ref().map_or(f.text.as_str(), |p| &p.content))
+                    .collect();
+                ExportFile {
+                    extension: group[0].extension,
+                    text: format!("{}{}{}", part.open, parts.join("\n"), part.close),
+                    xml: None,
+                }
+            }
+            (_, None) => ExportFile {
+                extension: group[0].extension,
+                text: group
+                    .iter()
+                    .map(|f| f.text.as_str())
+                    .collect::<Vec<_>>()
+                    .join("\n"),
+                xml: None,
+            },
+        })
+        .collect()
 }
 
 /// The longest part of a sample's name in a fit's identifier.

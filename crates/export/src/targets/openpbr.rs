@@ -25,8 +25,8 @@
 //! OpenPBR 1.1, which has no `specular_haze` and ignores it. The comment gives both rmse.
 
 use super::{
-    AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet,
-    warning_notes, xml_comment_text,
+    AlphaMap, Export, ExportFile, Family1, Microfacet, XML_DECLARATION, XmlPart, provenance,
+    translate_microfacet, warning_notes, xml_comment_text,
 };
 use crate::target::{CoreMicrofacet, Mixture, Smith, TargetDielectric};
 use crate::translate::{
@@ -34,6 +34,12 @@ use crate::translate::{
 };
 use crate::{ExportError, ExportModel};
 use stfit_core::ndf::Ggx;
+
+/// The root start tag of the MaterialX documents written (MaterialX 1.39).
+const MATERIALX_ROOT: &str = "<materialx version=\"1.39\">\n";
+
+/// The root end tag of the MaterialX documents written.
+const MATERIALX_CLOSE: &str = "</materialx>\n";
 
 /// Relative rmse reduction below which the haze lobe is not written.
 pub const MEANINGFUL_GAIN: f64 = 0.05;
@@ -158,11 +164,12 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         }
     ));
     notes.extend(warning_notes(&warnings));
-    let mut text = String::from("<?xml version=\"1.0\"?>\n<!--\n");
+    let mut comment = String::from("<!--\n");
     for n in &notes {
-        text.push_str(&format!("  {}\n", xml_comment_text(n)));
+        comment.push_str(&format!("  {}\n", xml_comment_text(n)));
     }
-    text.push_str("-->\n<materialx version=\"1.39\">\n");
+    comment.push_str("-->\n");
+    let mut text = String::new();
     text.push_str(&format!(
         "  <open_pbr_surface name=\"{id}\" type=\"surfaceshader\">\n"
     ));
@@ -181,12 +188,19 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
     }
     input("transmission_weight", 1.0);
     text.push_str(&format!(
-        "  </open_pbr_surface>\n  <surfacematerial name=\"{id}_material\" type=\"material\">\n    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"{id}\" />\n  </surfacematerial>\n</materialx>\n"
+        "  </open_pbr_surface>\n  <surfacematerial name=\"{id}_material\" type=\"material\">\n    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"{id}\" />\n  </surfacematerial>\n"
     ));
+    // One fit: the comment before the document's root; several: each fit's comment before
+    // its nodes inside one root.
     Ok(Export {
         files: vec![ExportFile {
             extension: "mtlx",
-            text,
+            text: format!("{XML_DECLARATION}{comment}{MATERIALX_ROOT}{text}{MATERIALX_CLOSE}"),
+            xml: Some(XmlPart {
+                open: format!("{XML_DECLARATION}{MATERIALX_ROOT}"),
+                content: format!("{comment}{text}"),
+                close: MATERIALX_CLOSE,
+            }),
         }],
         warnings,
         translation: Some(t),

@@ -78,6 +78,7 @@ pub fn export(model: &ExportModel, reference: &Reference) -> Result<Export, Expo
         files: vec![ExportFile {
             extension: "pbrt",
             text,
+            xml: None,
         }],
         warnings,
         translation: Some(t),

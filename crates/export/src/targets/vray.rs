@@ -193,6 +193,7 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         files: vec![ExportFile {
             extension: "vrscene",
             text,
+            xml: None,
         }],
         warnings,
         translation: Some(t),
