@@ -72,20 +72,21 @@ pub struct SurfaceArgs {
     /// NDF family.
     #[arg(long, value_enum)]
     pub ndf: NdfArg,
-    /// Roughness alpha (> 0) of a height-field NDF or of the base of --ndf porous.
+    /// Roughness alpha, in [1e-8, 100], of a height-field NDF or of the base of --ndf porous.
     #[arg(long, allow_negative_numbers = true)]
     pub alpha: Option<f64>,
-    /// Student-T shape gamma (> 3/2); required with, and only allowed with, --ndf student-t
-    /// (or --base student-t).
+    /// Student-T shape gamma, in (3/2, 1e15], at least 1.501 where it walks; required with,
+    /// and only allowed with, --ndf student-t (or --base student-t).
     #[arg(long, allow_negative_numbers = true)]
     pub gamma: Option<f64>,
-    /// Concentration kappa (> 0) of --ndf vmf.
+    /// Concentration kappa, in [0.1, 1e4], of --ndf vmf.
     #[arg(long, allow_negative_numbers = true)]
     pub kappa: Option<f64>,
     /// Height-field base of --ndf porous.
     #[arg(long, value_enum)]
     pub base: Option<BaseArg>,
-    /// Fraction of the facet area of --ndf porous that is uniformly oriented, in [0, 1].
+    /// Fraction of the facet area of --ndf porous that is uniformly oriented, in [0, 0.99]
+    /// (--ndf porous always walks, and at 1 the walks never end).
     #[arg(long, allow_negative_numbers = true)]
     pub porosity: Option<f64>,
     /// Facet material: dielectric (height-field NDFs; --eta), conductor (--n and --k, or a
@@ -97,10 +98,10 @@ pub struct SurfaceArgs {
     /// with |eta - 1| >= 0.005.
     #[arg(long, allow_negative_numbers = true)]
     pub eta: Option<f64>,
-    /// Real part of the conductor's relative index (with --k).
+    /// Real part of the conductor's relative index, in [1e-3, 1e3] (with --k).
     #[arg(long, allow_negative_numbers = true)]
     pub n: Option<f64>,
-    /// Imaginary part of the conductor's relative index (with --n).
+    /// Imaginary part of the conductor's relative index, in [0, 1e3] (with --n).
     #[arg(long, allow_negative_numbers = true)]
     pub k: Option<f64>,
     /// Albedo of Lambertian facets, in [0, 1].

@@ -19,7 +19,7 @@ pub struct SynthArgs {
     /// True model.
     #[arg(long, value_enum)]
     pub model: SynthModelArg,
-    /// True roughness (> 0).
+    /// True roughness, in [1e-8, 100].
     #[arg(long, value_name = "A", allow_negative_numbers = true)]
     pub alpha: f64,
     /// True Student-T shape (> 3/2); required for student-t, refused otherwise.

@@ -81,7 +81,8 @@ pub struct TableArgs {
     /// eta = 1 + 2e-8), 32^2 ggx_E nodes otherwise.
     #[arg(long, value_enum)]
     pub layout: Option<LayoutArg>,
-    /// Output format (default: from the extension of --out: .npy, .h/.c for C, else CSV).
+    /// Output format (default: from the extension of --out: .npy, .h/.hpp/.c/.inc for C, else
+    /// CSV).
     #[arg(long, value_enum)]
     pub format: Option<FormatArg>,
     /// Compute only slice K of N (lines i with i % N == K - 1) and write a shard file for

@@ -1,9 +1,10 @@
 //! stfit-report: Figure-1-style comparison plots of fitted microfacet models against measured
 //! transmission through rough glass, as SVG and PNG, and a markdown table of the fits.
 //!
-//! The data convention is that of `stfit-fit` (theory section 8): light from air at `theta_i`,
-//! `theta_o` the transmitted direction inside the glass (180 degrees straight through), and the
-//! plotted quantity `sqrt(L)` (the published view) or `L`. Each fit is drawn with its own model
+//! The data convention of in-plane samples is that of `stfit-fit` (theory section 8): light
+//! from air at `theta_i`, `theta_o` the transmitted direction inside the glass (180 degrees
+//! straight through), and the plotted quantity `sqrt(L)` (the published view) or `L`. Each fit
+//! is drawn with its own model
 //! ([`stfit_fit::Model::predict`]): its eta, masking and scattering orders, as it was fitted.
 //!
 //! [`render_report`] draws everything in memory; [`Report::write_to`] writes it to a folder:
@@ -12,7 +13,12 @@
 //!   Student-T with gamma free), measurements as markers and the model as lines, one colour per
 //!   incidence angle (the same in every figure), 1600 x 1200 px;
 //! - `<sample>-residuals.{svg,png}`: measured minus model, same layout;
-//! - `overview.{svg,png}`: samples as rows, models as columns;
+//! - for a general sample (any direction pairs, `data-format.md`) instead of those two,
+//!   `<sample>-plane.{svg,png}`: the measured and fitted BSDF in each incidence's plane of
+//!   incidence, and `<sample>-polar.{svg,png}`: the residual of every point on two disks per
+//!   incidence (the light's side and the other);
+//! - `overview.{svg,png}`: the in-plane samples as rows, models as columns (not written
+//!   without in-plane samples);
 //! - `ndf.{svg,png}`: the fitted `D(theta_m)` on a log scale, one panel per sample;
 //! - `fits.md`: every fit as a table.
 //!
