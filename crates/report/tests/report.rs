@@ -719,3 +719,39 @@ fn general_samples_get_plane_and_polar_figures() {
         "{ggx_row}"
     );
 }
+
+/// The figure titles name the scattering orders of the fits drawn: an all-orders fit is not
+/// called a single-scattering fit.
+#[test]
+fn figure_titles_name_the_orders_of_the_fits() {
+    let truth = params(ModelKind::Ggx, 0.3, 0.0, 1.0);
+    let sample = synth_sample("all orders", truth, 0.02);
+    let all = Model {
+        masking: stfit_fit::Masking::Correlated,
+        orders: stfit_fit::ScatteringOrders::All,
+        walks: Some(2000),
+        seed: Some(1),
+        ..truth
+    };
+    let stored = vec![fit(&sample, all, false)];
+    let data = Dataset {
+        source: PathBuf::from("synthetic"),
+        samples: vec![sample],
+    };
+    let report = render_report(&data, &stored, &ReportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    for name in ["all_orders-fits.svg", "overview.svg"] {
+        let text = svg(&report, name);
+        assert!(
+            text.contains("all-orders fits"),
+            "{name} does not say all orders"
+        );
+        assert!(
+            !text.contains("single-scattering"),
+            "{name} says single scattering"
+        );
+    }
+    let single = dataset();
+    let report = render_report(&single, &fits(&single), &ReportOptions::default()).unwrap();
+    assert!(svg(&report, "overview.svg").contains("single-scattering fits"));
+}
