@@ -83,8 +83,9 @@ pub(crate) struct GeneralPanel<'a> {
     /// Per incidence and measured point (same order), measured minus model in the report's
     /// scale.
     pub residuals: Vec<Vec<f64>>,
-    /// The rmse of the square root of the values over the fitted points, recomputed.
-    pub rmse_sqrt: f64,
+    /// The sum of squared residuals of the square root of the values over the fitted points
+    /// and their number, recomputed.
+    pub sq_sum: (f64, usize),
 }
 
 /// A general sample with everything its figures need.
@@ -222,7 +223,7 @@ fn panel_of<'a>(
         ndf,
         curves,
         residuals,
-        rmse_sqrt: (sum / n.max(1) as f64).sqrt(),
+        sq_sum: (sum, n),
     })
 }
 

@@ -755,3 +755,50 @@ fn figure_titles_name_the_orders_of_the_fits() {
     let report = render_report(&single, &fits(&single), &ReportOptions::default()).unwrap();
     assert!(svg(&report, "overview.svg").contains("single-scattering fits"));
 }
+
+/// A sample that mixes in-plane and general points (files of both forms merged by name, one
+/// scale fitted to all) is drawn in both forms, each figure with its own points, and its
+/// stored rmse, over all its points, is reproduced without a warning.
+#[test]
+fn a_sample_mixing_in_plane_and_general_points_is_drawn_whole() {
+    let truth = params(ModelKind::Ggx, 0.3, 0.0, 1.0);
+    let mut sample = synth_sample("mixed", truth, 0.03);
+    let general = stfit_fit::SynthSpec {
+        model: truth,
+        grid: stfit_fit::Grid::spherical_default(),
+        noise: 0.02,
+        seed: 3,
+        name: "mixed".into(),
+    }
+    .sample()
+    .unwrap();
+    sample.points.extend(general.points);
+    let stored = stfit_fit::fit_all(&sample, &Default::default()).unwrap();
+    assert!(
+        stored
+            .iter()
+            .all(|f| f.measured == stfit_fit::Measured::Both)
+    );
+    let data = Dataset {
+        source: PathBuf::from("mixed"),
+        samples: vec![sample],
+    };
+    let report = render_report(&data, &stored, &ReportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    for name in [
+        "mixed-fits.svg",
+        "mixed-residuals.svg",
+        "mixed-plane.svg",
+        "mixed-polar.svg",
+        "overview.svg",
+        "ndf.svg",
+    ] {
+        assert!(report.file(name).is_some(), "no {name}");
+    }
+    // The 300 in-plane points are drawn in each of the four panels of the fits figure.
+    let fits_svg = svg(&report, "mixed-fits.svg");
+    assert!(fits_svg.matches("<circle").count() >= 4 * 300);
+    let md = String::from_utf8(report.file("fits.md").unwrap().contents.clone()).unwrap();
+    assert_eq!(md.lines().filter(|l| l.starts_with("| mixed |")).count(), 4);
+    assert_eq!(md.lines().filter(|l| l.starts_with("- mixed: ")).count(), 1);
+}
