@@ -246,7 +246,7 @@ fn draw_fit_panel<DB: DrawingBackend>(
         ))?;
     }
     for (k, g) in view.groups.iter().enumerate() {
-        let colour = palette.colour(g.theta_i_deg);
+        let colour = palette.colour((g.theta_i_deg, 0.0));
         let r = look.marker;
         match kind {
             PanelKind::Fit => {
@@ -263,7 +263,7 @@ fn draw_fit_panel<DB: DrawingBackend>(
     }
     if let (PanelKind::Fit, Some(p)) = (kind, panel) {
         for (g, curve) in view.groups.iter().zip(&p.curves) {
-            let style = palette.colour(g.theta_i_deg).stroke_width(look.line);
+            let style = palette.colour((g.theta_i_deg, 0.0)).stroke_width(look.line);
             chart.draw_series(LineSeries::new(curve.iter().copied(), style))?;
         }
     }

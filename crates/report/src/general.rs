@@ -254,7 +254,7 @@ impl Figure for PlaneFigure<'_> {
             },
         ];
         legend.extend(self.view.incidences.iter().map(|g| LegendEntry {
-            colour: self.palette.colour(g.theta_i_deg),
+            colour: self.palette.colour((g.theta_i_deg, g.phi_i_deg)),
             glyph: Glyph::MarkerAndLine,
             label: g.label(),
         }));
@@ -318,7 +318,7 @@ impl PlaneFigure<'_> {
             chart.draw_series(LineSeries::new([(x, 0.0), (x, y1)], GREY.stroke_width(1)))?;
         }
         for (k, g) in self.view.incidences.iter().enumerate() {
-            let colour = self.palette.colour(g.theta_i_deg);
+            let colour = self.palette.colour((g.theta_i_deg, g.phi_i_deg));
             chart.draw_series(g.plane_points(self.y_scale).into_iter().map(|(p, f)| {
                 let style = if f {
                     colour.filled()

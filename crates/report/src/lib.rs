@@ -271,10 +271,17 @@ pub fn render_report(
             }
         }
     }
+    // One palette for the incidence angles of the in-plane figures, one for the incident
+    // directions of the general figures.
     let palette = AnglePalette::new(
-        data.samples
+        in_plane
             .iter()
-            .flat_map(|s| s.points.iter().map(|m| m.theta_i_deg())),
+            .flat_map(|v| v.groups.iter().map(|g| (g.theta_i_deg, 0.0))),
+    );
+    let general_palette = AnglePalette::new(
+        general
+            .iter()
+            .flat_map(|v| v.incidences.iter().map(|g| (g.theta_i_deg, g.phi_i_deg))),
     );
     // (sample title, [(fit, recomputed rmse)]) of every sample, in data order, over all its
     // points (those of both figures of a mixed sample).
@@ -345,7 +352,7 @@ pub fn render_report(
                 &format!("{stem}-plane"),
                 &PlaneFigure {
                     view,
-                    palette: &palette,
+                    palette: &general_palette,
                     y_scale: opts.y_scale,
                 },
             )?;

@@ -802,3 +802,45 @@ fn a_sample_mixing_in_plane_and_general_points_is_drawn_whole() {
     assert_eq!(md.lines().filter(|l| l.starts_with("| mixed |")).count(), 4);
     assert_eq!(md.lines().filter(|l| l.starts_with("- mixed: ")).count(), 1);
 }
+
+/// Two incident directions at the same `theta_i` and other azimuths are told apart in the plane
+/// figure: each has its own colour, as its legend entry says.
+#[test]
+fn incidences_at_one_theta_and_two_azimuths_get_two_colours() {
+    let truth = params(ModelKind::Ggx, 0.3, 0.0, 1.0);
+    let sample = stfit_fit::SynthSpec {
+        model: truth,
+        grid: stfit_fit::Grid::Spherical {
+            theta_i_deg: vec![30.0],
+            phi_i_deg: vec![0.0, 90.0],
+            theta_o_deg: (0..18).map(|k| 5.0 + 10.0 * k as f64).collect(),
+            phi_o_deg: (0..18).map(|k| 20.0 * k as f64).collect(),
+        },
+        noise: 0.0,
+        seed: 1,
+        name: "azimuths".into(),
+    }
+    .sample()
+    .unwrap();
+    let stored = vec![fit(&sample, truth, false)];
+    let data = Dataset {
+        source: PathBuf::from("azimuths"),
+        samples: vec![sample],
+    };
+    let report = render_report(&data, &stored, &ReportOptions::default()).unwrap();
+    let plane = svg(&report, "azimuths-plane.svg");
+    // The legend's line glyphs (stroke width 3): grey for "model", then one per incidence.
+    let colours: Vec<&str> = plane
+        .split("<polyline")
+        .skip(1)
+        .filter(|e| e.contains(r#"stroke-width="3""#))
+        .filter_map(|e| e.split(r#"stroke=""#).nth(1)?.split('"').next())
+        .filter(|c| *c != "#555555")
+        .collect();
+    assert_eq!(colours.len(), 2, "{colours:?}");
+    assert_ne!(
+        colours[0], colours[1],
+        "both incidences are drawn in {}",
+        colours[0]
+    );
+}
