@@ -259,7 +259,7 @@ impl Figure for PlaneFigure<'_> {
             label: g.label(),
         }));
         let title = format!(
-            "{}: BSDF along the plane of incidence (|x| < 90 on the side of the light)",
+            "{}: BSDF along the plane of incidence (|x| < 90 outside the glass, above the surface)",
             self.view.title()
         );
         draw_header(&header, &title, &legend, 20.0)?;

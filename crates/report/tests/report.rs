@@ -699,6 +699,14 @@ fn general_samples_get_plane_and_polar_figures() {
     ] {
         assert!(plane.contains(text), "plane figure lacks {text:?}");
     }
+    // Light from inside (theta_i 120, 150) is on the side |x| > 90: the title says which side
+    // |x| < 90 is, not that it is the light's.
+    assert!(
+        plane.contains("|x| &lt; 90 outside the glass")
+            || plane.contains("|x| < 90 outside the glass"),
+        "the plane figure's title does not say |x| < 90 is outside"
+    );
+    assert!(!plane.contains("on the side of the light"));
     let polar = svg(&report, "general_glass-polar.svg");
     assert!(polar.contains("residuals"), "polar figure has no title");
     for name in ["general_glass-plane.png", "general_glass-polar.png"] {
