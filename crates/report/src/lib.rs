@@ -303,13 +303,16 @@ pub fn render_report(
         rmse_checks.push((view::sample_title(&sample.name), checks));
     }
     let mut warnings: Vec<String> = not_drawn.iter().map(NotDrawn::message).collect();
+    // The stored rmse that the data do not reproduce, also listed in fits.md: its table shows
+    // the stored numbers.
+    let mut not_reproduced = Vec::new();
     for (title, checks) in &rmse_checks {
         for &(fit, recomputed) in checks {
             let stored = fit.rmse_sqrt_l;
             // A NaN on either side warns too.
             let gap = (recomputed - stored).abs();
             if gap.is_nan() || gap > RMSE_TOLERANCE * stored.abs().max(1e-3) {
-                warnings.push(format!(
+                not_reproduced.push(format!(
                     "sample `{}`, {}: the stored rmse of the square root of the data is {} \
                      but the data and the fitted model ({}, eta {}) give {}; the fit may come \
                      from other data",
@@ -323,6 +326,7 @@ pub fn render_report(
             }
         }
     }
+    warnings.extend(not_reproduced.iter().cloned());
 
     let mut files = Vec::new();
     let mut figure_names: Vec<(String, Vec<(&'static str, String)>)> = Vec::new();
@@ -391,16 +395,38 @@ pub fn render_report(
         .collect();
     files.push(ReportFile {
         name: "fits.md".to_string(),
-        contents: fits_markdown(
-            &by_sample,
-            &not_drawn,
-            &figure_names,
-            !in_plane.is_empty(),
-            opts,
+        contents: with_not_reproduced(
+            fits_markdown(
+                &by_sample,
+                &not_drawn,
+                &figure_names,
+                !in_plane.is_empty(),
+                opts,
+            ),
+            &not_reproduced,
         )
         .into_bytes(),
     });
     Ok(Report { files, warnings })
+}
+
+/// `md` with a section listing `not_reproduced` (the stored rmse that the data and the fitted
+/// model do not reproduce), before its list of figures.
+fn with_not_reproduced(md: String, not_reproduced: &[String]) -> String {
+    if not_reproduced.is_empty() {
+        return md;
+    }
+    let mut section = String::from(
+        "\n## Not reproduced\n\nThe table gives the stored rmse; the data and the fitted \
+         parameters give another:\n\n",
+    );
+    for w in not_reproduced {
+        section.push_str(&format!("- {}\n", w.replace('|', "\\|")));
+    }
+    match md.find("\n## Figures") {
+        Some(at) => format!("{}{section}{}", &md[..at], &md[at..]),
+        None => md + &section,
+    }
 }
 
 /// [`render_report`], then [`Report::write_to`] `dir`.

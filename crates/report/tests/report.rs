@@ -336,6 +336,17 @@ fn a_stored_rmse_the_data_does_not_reproduce_is_reported() {
     let report = render_report(&data, &all, &ReportOptions::default()).unwrap();
     assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
     assert!(report.warnings[0].contains("frosted-like") && report.warnings[0].contains("Beckmann"));
+    // fits.md, whose table shows the stored rmse, says so too.
+    let md = String::from_utf8(report.file("fits.md").unwrap().contents.clone()).unwrap();
+    let section = md
+        .split("## Not reproduced")
+        .nth(1)
+        .expect("a Not reproduced section");
+    assert!(
+        section.contains("frosted-like") && section.contains("Beckmann"),
+        "{md}"
+    );
+    assert!(section.find("## Figures").is_some(), "{md}");
     // Each fit is drawn with its own model: fits that claim another eta than the one their
     // rmse was computed with do not reproduce it.
     let mut other_eta = fits(&data);
