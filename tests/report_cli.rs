@@ -293,3 +293,26 @@ fn stored_fits_must_hold_a_fit_to_draw() {
     assert!(e.contains("the file holds no fits"), "{e}");
     assert!(!out.exists());
 }
+
+/// A report fits the four models of `--model all`: saying `--model all` is accepted, any other
+/// model (the fit command's default, student-t, included) is refused with status 2.
+#[test]
+fn model_flag_of_a_report_must_be_all() {
+    let dir = CaseDir::new("report-model-flag");
+    let out = dir.join("report");
+    stfit_ok(&[
+        "report",
+        p(&example()),
+        "--model",
+        "all",
+        "--sample",
+        "frosted",
+        "--out",
+        p(&out),
+    ]);
+    for model in ["student-t", "ggx"] {
+        let run = stfit(&["report", p(&example()), "--model", model, "--out", p(&out)]);
+        assert_eq!(run.code, Some(2), "--model {model}: {}", run.stderr);
+        assert!(run.stderr.contains("--model all"), "{}", run.stderr);
+    }
+}

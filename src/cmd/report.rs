@@ -56,9 +56,14 @@ pub fn run(args: ReportArgs, given: &[String]) -> CmdResult {
             YAxisArg::Linear => YScale::Linear,
         },
     };
-    if args.fits.is_none() && (args.fit.model != ModelArg::StudentT || args.fit.gamma.is_some()) {
+    // Without --fits the four models of --model all are fitted: `--model all` says so, any
+    // other --model (the default, student-t, included when given) and --gamma would not hold.
+    let model_given = given.iter().any(|g| g == "--model");
+    if args.fits.is_none()
+        && ((model_given && args.fit.model != ModelArg::All) || args.fit.gamma.is_some())
+    {
         return Err(usage(
-            "a report fits the four models of --model all: --model and --gamma do not apply",
+            "a report fits the four models of --model all: no other --model applies, nor --gamma",
         ));
     }
     if let (Some(_), Some(flag)) = (&args.fits, given.first()) {

@@ -76,6 +76,23 @@ fn residual_range((lo, hi): (f64, f64)) -> (f64, f64) {
     (-m, m)
 }
 
+/// What the models of `fits` are, for a figure title: `single-scattering fits` or `all-orders
+/// fits` when every fit has those orders, else `fits`.
+fn fits_phrase<'a>(fits: impl IntoIterator<Item = &'a stfit_fit::FitResult>) -> &'static str {
+    let mut orders = fits.into_iter().map(|f| f.model.orders);
+    let Some(first) = orders.next() else {
+        return "fits";
+    };
+    if orders.any(|o| o != first) {
+        return "fits";
+    }
+    match first {
+        stfit_fit::ScatteringOrders::Single => "single-scattering fits",
+        stfit_fit::ScatteringOrders::All => "all-orders fits",
+        _ => "fits",
+    }
+}
+
 /// The parameter line of a panel title.
 fn params_line(p: &PanelView, with_scale: bool) -> String {
     params_text(p.fit, with_scale)
@@ -229,7 +246,7 @@ fn draw_fit_panel<DB: DrawingBackend>(
         ))?;
     }
     for (k, g) in view.groups.iter().enumerate() {
-        let colour = palette.colour(g.theta_i_deg);
+        let colour = palette.colour((g.theta_i_deg, 0.0));
         let r = look.marker;
         match kind {
             PanelKind::Fit => {
@@ -246,7 +263,7 @@ fn draw_fit_panel<DB: DrawingBackend>(
     }
     if let (PanelKind::Fit, Some(p)) = (kind, panel) {
         for (g, curve) in view.groups.iter().zip(&p.curves) {
-            let style = palette.colour(g.theta_i_deg).stroke_width(look.line);
+            let style = palette.colour((g.theta_i_deg, 0.0)).stroke_width(look.line);
             chart.draw_series(LineSeries::new(curve.iter().copied(), style))?;
         }
     }
@@ -296,8 +313,9 @@ impl Figure for SampleFigure<'_> {
         let (title, legend) = match self.kind {
             PanelKind::Fit => (
                 format!(
-                    "{}: measured transmission and single-scattering fits",
-                    self.view.title()
+                    "{}: measured transmission and {}",
+                    self.view.title(),
+                    fits_phrase(self.view.panels.iter().flatten().map(|p| p.fit))
                 ),
                 angle_legend(self.palette, true, self.view.has_unfitted()),
             ),
@@ -342,9 +360,16 @@ impl Figure for OverviewFigure<'_> {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), ReportError> {
         let (header, body) = root.split_vertically(HEADER_HEIGHT);
+        let fits = self
+            .views
+            .iter()
+            .flat_map(|v| v.panels.iter().flatten().map(|p| p.fit));
         draw_header(
             &header,
-            "All samples: measured transmission and single-scattering fits",
+            &format!(
+                "All samples: measured transmission and {}",
+                fits_phrase(fits)
+            ),
             &angle_legend(
                 self.palette,
                 true,

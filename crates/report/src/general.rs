@@ -83,8 +83,9 @@ pub(crate) struct GeneralPanel<'a> {
     /// Per incidence and measured point (same order), measured minus model in the report's
     /// scale.
     pub residuals: Vec<Vec<f64>>,
-    /// The rmse of the square root of the values over the fitted points, recomputed.
-    pub rmse_sqrt: f64,
+    /// The sum of squared residuals of the square root of the values over the fitted points
+    /// and their number, recomputed.
+    pub sq_sum: (f64, usize),
 }
 
 /// A general sample with everything its figures need.
@@ -222,7 +223,7 @@ fn panel_of<'a>(
         ndf,
         curves,
         residuals,
-        rmse_sqrt: (sum / n.max(1) as f64).sqrt(),
+        sq_sum: (sum, n),
     })
 }
 
@@ -253,12 +254,12 @@ impl Figure for PlaneFigure<'_> {
             },
         ];
         legend.extend(self.view.incidences.iter().map(|g| LegendEntry {
-            colour: self.palette.colour(g.theta_i_deg),
+            colour: self.palette.colour((g.theta_i_deg, g.phi_i_deg)),
             glyph: Glyph::MarkerAndLine,
             label: g.label(),
         }));
         let title = format!(
-            "{}: BSDF along the plane of incidence (|x| < 90 on the side of the light)",
+            "{}: BSDF along the plane of incidence (|x| < 90 outside the glass, above the surface)",
             self.view.title()
         );
         draw_header(&header, &title, &legend, 20.0)?;
@@ -317,7 +318,7 @@ impl PlaneFigure<'_> {
             chart.draw_series(LineSeries::new([(x, 0.0), (x, y1)], GREY.stroke_width(1)))?;
         }
         for (k, g) in self.view.incidences.iter().enumerate() {
-            let colour = self.palette.colour(g.theta_i_deg);
+            let colour = self.palette.colour((g.theta_i_deg, g.phi_i_deg));
             chart.draw_series(g.plane_points(self.y_scale).into_iter().map(|(p, f)| {
                 let style = if f {
                     colour.filled()

@@ -36,7 +36,7 @@ mod view;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use stfit_fit::{Dataset, FitResult};
+use stfit_fit::{Dataset, FitResult, Sample};
 
 pub use error::ReportError;
 pub use figures::{clip_below, fmt_tick};
@@ -150,6 +150,24 @@ fn fitted_points(sample: &stfit_fit::Sample) -> usize {
     sample.points.iter().filter(|m| m.weight > 0.0).count()
 }
 
+/// A sample split by the form of its points: `(in-plane points, general points)`, each `None`
+/// when there are none (an empty sample counts as in-plane).
+fn split_by_form(sample: &Sample) -> (Option<Sample>, Option<Sample>) {
+    let (ip, general_part): (Vec<_>, Vec<_>) = sample
+        .points
+        .iter()
+        .partition(|p| p.in_plane_angles().is_some());
+    let part = |points: Vec<stfit_fit::Measurement>| Sample {
+        name: sample.name.clone(),
+        points,
+    };
+    match (ip.is_empty(), general_part.is_empty()) {
+        (_, true) => (Some(sample.clone()), None),
+        (true, false) => (None, Some(sample.clone())),
+        (false, false) => (Some(part(ip)), Some(part(general_part))),
+    }
+}
+
 /// Assigns each fit to its sample and panel, checking that it belongs there.
 fn assign_fits<'a>(
     data: &'a Dataset,
@@ -232,57 +250,75 @@ pub fn render_report(
         }
     }
 
-    // In-plane samples get the Walter-form figures, general samples theirs.
+    // In-plane samples get the Walter-form figures, general samples theirs; a sample that
+    // mixes both kinds of point (files of both forms merged by name) gets both, each with its
+    // own points.
+    let parts: Vec<(Option<Sample>, Option<Sample>)> =
+        data.samples.iter().map(split_by_form).collect();
     let mut in_plane = Vec::new();
     let mut general = Vec::new();
-    let mut not_drawn = Vec::new();
-    for (sample, fits) in data.samples.iter().zip(slots) {
-        if sample.is_in_plane() {
-            in_plane.push(SampleView::new(sample, fits, opts, &mut not_drawn)?);
-        } else {
+    let mut not_drawn: Vec<NotDrawn> = Vec::new();
+    for (fits, (ip, general_part)) in slots.into_iter().zip(&parts) {
+        if let Some(ip) = ip {
+            in_plane.push(SampleView::new(ip, fits, opts, &mut not_drawn)?);
+        }
+        if let Some(general_part) = general_part {
+            let mut again = Vec::new();
             general.push(GeneralView::new(
-                sample,
+                general_part,
                 fits,
                 opts.y_scale,
-                &mut not_drawn,
+                &mut again,
             )?);
+            for n in again {
+                if !not_drawn.iter().any(|m| std::ptr::eq(m.fit, n.fit)) {
+                    not_drawn.push(n);
+                }
+            }
         }
     }
+    // One palette for the incidence angles of the in-plane figures, one for the incident
+    // directions of the general figures.
     let palette = AnglePalette::new(
-        data.samples
+        in_plane
             .iter()
-            .flat_map(|s| s.points.iter().map(|m| m.theta_i_deg())),
+            .flat_map(|v| v.groups.iter().map(|g| (g.theta_i_deg, 0.0))),
     );
-    // (sample title, [(fit, recomputed rmse)]) of every sample, in data order.
+    let general_palette = AnglePalette::new(
+        general
+            .iter()
+            .flat_map(|v| v.incidences.iter().map(|g| (g.theta_i_deg, g.phi_i_deg))),
+    );
+    // (sample title, [(fit, recomputed rmse)]) of every sample, in data order, over all its
+    // points (those of both figures of a mixed sample).
     let mut rmse_checks: Vec<(&str, Vec<(&FitResult, f64)>)> = Vec::new();
-    for v in &in_plane {
-        rmse_checks.push((
-            v.title(),
-            v.panels
-                .iter()
-                .flatten()
-                .map(|p| (p.fit, p.rmse_sqrt_l))
-                .collect(),
-        ));
-    }
-    for v in &general {
-        rmse_checks.push((
-            v.title(),
-            v.panels
-                .iter()
-                .flatten()
-                .map(|p| (p.fit, p.rmse_sqrt))
-                .collect(),
-        ));
+    for sample in &data.samples {
+        let iv = in_plane.iter().find(|v| v.name == sample.name);
+        let gv = general.iter().find(|v| v.name == sample.name);
+        let mut checks = Vec::new();
+        for slot in ModelSlot::ALL {
+            let a = iv.and_then(|v| v.panels[slot.index()].as_ref());
+            let b = gv.and_then(|v| v.panels[slot.index()].as_ref());
+            let Some(fit) = a.map(|p| p.fit).or(b.map(|p| p.fit)) else {
+                continue;
+            };
+            let (s1, n1) = a.map_or((0.0, 0), |p| p.sq_sum);
+            let (s2, n2) = b.map_or((0.0, 0), |p| p.sq_sum);
+            checks.push((fit, ((s1 + s2) / (n1 + n2).max(1) as f64).sqrt()));
+        }
+        rmse_checks.push((view::sample_title(&sample.name), checks));
     }
     let mut warnings: Vec<String> = not_drawn.iter().map(NotDrawn::message).collect();
+    // The stored rmse that the data do not reproduce, also listed in fits.md: its table shows
+    // the stored numbers.
+    let mut not_reproduced = Vec::new();
     for (title, checks) in &rmse_checks {
         for &(fit, recomputed) in checks {
             let stored = fit.rmse_sqrt_l;
             // A NaN on either side warns too.
             let gap = (recomputed - stored).abs();
             if gap.is_nan() || gap > RMSE_TOLERANCE * stored.abs().max(1e-3) {
-                warnings.push(format!(
+                not_reproduced.push(format!(
                     "sample `{}`, {}: the stored rmse of the square root of the data is {} \
                      but the data and the fitted model ({}, eta {}) give {}; the fit may come \
                      from other data",
@@ -296,12 +332,15 @@ pub fn render_report(
             }
         }
     }
+    warnings.extend(not_reproduced.iter().cloned());
 
     let mut files = Vec::new();
     let mut figure_names: Vec<(String, Vec<(&'static str, String)>)> = Vec::new();
     let mut ndfs: Vec<(String, [Option<stfit_core::ndf::AnyNdf>; 4])> = Vec::new();
     for sample in &data.samples {
         let stem = file_stem(&sample.name);
+        let mut names = Vec::new();
+        let mut ndf = None;
         if let Some(view) = in_plane.iter().find(|v| v.name == sample.name) {
             push_figure(
                 &mut files,
@@ -313,24 +352,17 @@ pub fn render_report(
                 &format!("{stem}-residuals"),
                 &SampleFigure::residuals(view, &palette, opts.y_scale),
             )?;
-            figure_names.push((
-                view.title().to_string(),
-                vec![
-                    ("fits", format!("{stem}-fits.png")),
-                    ("residuals", format!("{stem}-residuals.png")),
-                ],
-            ));
-            ndfs.push((
-                view.title().to_string(),
-                view.panels.clone().map(|p| p.map(|p| p.ndf)),
-            ));
-        } else if let Some(view) = general.iter().find(|v| v.name == sample.name) {
+            names.push(("fits", format!("{stem}-fits.png")));
+            names.push(("residuals", format!("{stem}-residuals.png")));
+            ndf = Some(view.panels.clone().map(|p| p.map(|p| p.ndf)));
+        }
+        if let Some(view) = general.iter().find(|v| v.name == sample.name) {
             push_figure(
                 &mut files,
                 &format!("{stem}-plane"),
                 &PlaneFigure {
                     view,
-                    palette: &palette,
+                    palette: &general_palette,
                     y_scale: opts.y_scale,
                 },
             )?;
@@ -342,18 +374,15 @@ pub fn render_report(
                     y_scale: opts.y_scale,
                 },
             )?;
-            figure_names.push((
-                view.title().to_string(),
-                vec![
-                    ("plane of incidence", format!("{stem}-plane.png")),
-                    ("residual maps", format!("{stem}-polar.png")),
-                ],
-            ));
-            ndfs.push((
-                view.title().to_string(),
-                view.panels.clone().map(|p| p.map(|p| p.ndf)),
-            ));
+            names.push(("plane of incidence", format!("{stem}-plane.png")));
+            names.push(("residual maps", format!("{stem}-polar.png")));
+            ndf = ndf.or_else(|| Some(view.panels.clone().map(|p| p.map(|p| p.ndf))));
         }
+        let title = view::sample_title(&sample.name).to_string();
+        if let Some(ndf) = ndf {
+            ndfs.push((title.clone(), ndf));
+        }
+        figure_names.push((title, names));
     }
     if !in_plane.is_empty() {
         let overview = OverviewFigure {
@@ -365,27 +394,45 @@ pub fn render_report(
     }
     push_figure(&mut files, "ndf", &NdfFigure { samples: &ndfs })?;
 
+    // The fits table in data order.
     let by_sample: Vec<(&str, Vec<&FitResult>)> = rmse_checks
         .iter()
         .map(|(title, checks)| (*title, checks.iter().map(|c| c.0).collect()))
         .collect();
-    // The fits table in data order.
-    let by_sample: Vec<(&str, Vec<&FitResult>)> = figure_names
-        .iter()
-        .filter_map(|(title, _)| by_sample.iter().find(|(t, _)| t == title).cloned())
-        .collect();
     files.push(ReportFile {
         name: "fits.md".to_string(),
-        contents: fits_markdown(
-            &by_sample,
-            &not_drawn,
-            &figure_names,
-            !in_plane.is_empty(),
-            opts,
+        contents: with_not_reproduced(
+            fits_markdown(
+                &by_sample,
+                &not_drawn,
+                &figure_names,
+                !in_plane.is_empty(),
+                opts,
+            ),
+            &not_reproduced,
         )
         .into_bytes(),
     });
     Ok(Report { files, warnings })
+}
+
+/// `md` with a section listing `not_reproduced` (the stored rmse that the data and the fitted
+/// model do not reproduce), before its list of figures.
+fn with_not_reproduced(md: String, not_reproduced: &[String]) -> String {
+    if not_reproduced.is_empty() {
+        return md;
+    }
+    let mut section = String::from(
+        "\n## Not reproduced\n\nThe table gives the stored rmse; the data and the fitted \
+         parameters give another:\n\n",
+    );
+    for w in not_reproduced {
+        section.push_str(&format!("- {}\n", w.replace('|', "\\|")));
+    }
+    match md.find("\n## Figures") {
+        Some(at) => format!("{}{section}{}", &md[..at], &md[at..]),
+        None => md + &section,
+    }
 }
 
 /// [`render_report`], then [`Report::write_to`] `dir`.

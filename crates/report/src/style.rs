@@ -25,31 +25,34 @@ pub(crate) const GREY: RGBColor = RGBColor(0x55, 0x55, 0x55);
 /// Grid lines.
 pub(crate) const GRID: RGBColor = RGBColor(0xE2, 0xE2, 0xE2);
 
-/// One colour per incidence angle, fixed for a whole report: the `k`-th smallest incidence
-/// angle of the dataset gets the `k`-th colour in every figure and panel.
+/// One colour per incident direction, fixed for a whole report: the `k`-th incident direction
+/// `(theta_i, phi_i)` of the dataset, in ascending order, gets the `k`-th colour in every
+/// figure and panel. In-plane figures key their incidences by `(theta_i, 0)`; the figures of
+/// general samples have their own palette, so that two incidences at the same `theta_i` and
+/// other azimuths get different colours.
 #[derive(Debug, Clone)]
 pub(crate) struct AnglePalette {
-    angles: Vec<f64>,
+    angles: Vec<(f64, f64)>,
 }
 
 impl AnglePalette {
-    pub(crate) fn new(angles: impl Iterator<Item = f64>) -> Self {
-        let mut angles: Vec<f64> = angles.collect();
-        angles.sort_by(f64::total_cmp);
+    pub(crate) fn new(angles: impl Iterator<Item = (f64, f64)>) -> Self {
+        let mut angles: Vec<(f64, f64)> = angles.collect();
+        angles.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
         angles.dedup();
         Self { angles }
     }
 
-    pub(crate) fn colour(&self, theta_i_deg: f64) -> RGBColor {
+    pub(crate) fn colour(&self, incidence: (f64, f64)) -> RGBColor {
         let k = self
             .angles
             .iter()
-            .position(|&a| a == theta_i_deg)
+            .position(|&a| a == incidence)
             .unwrap_or(0);
         OKABE_ITO[k % OKABE_ITO.len()]
     }
 
-    pub(crate) fn angles(&self) -> &[f64] {
+    pub(crate) fn angles(&self) -> &[(f64, f64)] {
         &self.angles
     }
 }
@@ -199,7 +202,7 @@ pub(crate) fn angle_legend(
         } else {
             Glyph::Marker
         },
-        label: format!("θi = {}", fmt_deg(a)),
+        label: format!("θi = {}", fmt_deg(a.0)),
     }));
     entries
 }

@@ -81,9 +81,9 @@ pub(crate) struct PanelView<'a> {
     pub curves: Vec<Vec<Point>>,
     /// Measured minus model, in the report's scale, per [`AngleGroup`].
     pub residuals: Vec<Vec<Point>>,
-    /// The rmse of `sqrt(L)` over the fitted points (weight > 0), recomputed from the data and
-    /// the fitted parameters.
-    pub rmse_sqrt_l: f64,
+    /// The sum of squared residuals of `sqrt(L)` over the fitted points (weight > 0) and their
+    /// number, recomputed from the data and the fitted parameters.
+    pub sq_sum: (f64, usize),
 }
 
 /// A sample with everything its figures need.
@@ -193,7 +193,7 @@ fn panel_view<'a>(
         ndf,
         curves,
         residuals,
-        rmse_sqrt_l: (sum_sq / n.max(1) as f64).sqrt(),
+        sq_sum: (sum_sq, n),
     })
 }
 

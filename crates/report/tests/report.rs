@@ -336,6 +336,17 @@ fn a_stored_rmse_the_data_does_not_reproduce_is_reported() {
     let report = render_report(&data, &all, &ReportOptions::default()).unwrap();
     assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
     assert!(report.warnings[0].contains("frosted-like") && report.warnings[0].contains("Beckmann"));
+    // fits.md, whose table shows the stored rmse, says so too.
+    let md = String::from_utf8(report.file("fits.md").unwrap().contents.clone()).unwrap();
+    let section = md
+        .split("## Not reproduced")
+        .nth(1)
+        .expect("a Not reproduced section");
+    assert!(
+        section.contains("frosted-like") && section.contains("Beckmann"),
+        "{md}"
+    );
+    assert!(section.find("## Figures").is_some(), "{md}");
     // Each fit is drawn with its own model: fits that claim another eta than the one their
     // rmse was computed with do not reproduce it.
     let mut other_eta = fits(&data);
@@ -699,6 +710,14 @@ fn general_samples_get_plane_and_polar_figures() {
     ] {
         assert!(plane.contains(text), "plane figure lacks {text:?}");
     }
+    // Light from inside (theta_i 120, 150) is on the side |x| > 90: the title says which side
+    // |x| < 90 is, not that it is the light's.
+    assert!(
+        plane.contains("|x| &lt; 90 outside the glass")
+            || plane.contains("|x| < 90 outside the glass"),
+        "the plane figure's title does not say |x| < 90 is outside"
+    );
+    assert!(!plane.contains("on the side of the light"));
     let polar = svg(&report, "general_glass-polar.svg");
     assert!(polar.contains("residuals"), "polar figure has no title");
     for name in ["general_glass-plane.png", "general_glass-polar.png"] {
@@ -717,5 +736,130 @@ fn general_samples_get_plane_and_polar_figures() {
     assert!(
         (eta - 1.45).abs() < 0.005 && eta_cell.contains(" ± "),
         "{ggx_row}"
+    );
+}
+
+/// The figure titles name the scattering orders of the fits drawn: an all-orders fit is not
+/// called a single-scattering fit.
+#[test]
+fn figure_titles_name_the_orders_of_the_fits() {
+    let truth = params(ModelKind::Ggx, 0.3, 0.0, 1.0);
+    let sample = synth_sample("all orders", truth, 0.02);
+    let all = Model {
+        masking: stfit_fit::Masking::Correlated,
+        orders: stfit_fit::ScatteringOrders::All,
+        walks: Some(2000),
+        seed: Some(1),
+        ..truth
+    };
+    let stored = vec![fit(&sample, all, false)];
+    let data = Dataset {
+        source: PathBuf::from("synthetic"),
+        samples: vec![sample],
+    };
+    let report = render_report(&data, &stored, &ReportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    for name in ["all_orders-fits.svg", "overview.svg"] {
+        let text = svg(&report, name);
+        assert!(
+            text.contains("all-orders fits"),
+            "{name} does not say all orders"
+        );
+        assert!(
+            !text.contains("single-scattering"),
+            "{name} says single scattering"
+        );
+    }
+    let single = dataset();
+    let report = render_report(&single, &fits(&single), &ReportOptions::default()).unwrap();
+    assert!(svg(&report, "overview.svg").contains("single-scattering fits"));
+}
+
+/// A sample that mixes in-plane and general points (files of both forms merged by name, one
+/// scale fitted to all) is drawn in both forms, each figure with its own points, and its
+/// stored rmse, over all its points, is reproduced without a warning.
+#[test]
+fn a_sample_mixing_in_plane_and_general_points_is_drawn_whole() {
+    let truth = params(ModelKind::Ggx, 0.3, 0.0, 1.0);
+    let mut sample = synth_sample("mixed", truth, 0.03);
+    let general = stfit_fit::SynthSpec {
+        model: truth,
+        grid: stfit_fit::Grid::spherical_default(),
+        noise: 0.02,
+        seed: 3,
+        name: "mixed".into(),
+    }
+    .sample()
+    .unwrap();
+    sample.points.extend(general.points);
+    let stored = stfit_fit::fit_all(&sample, &Default::default()).unwrap();
+    assert!(
+        stored
+            .iter()
+            .all(|f| f.measured == stfit_fit::Measured::Both)
+    );
+    let data = Dataset {
+        source: PathBuf::from("mixed"),
+        samples: vec![sample],
+    };
+    let report = render_report(&data, &stored, &ReportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    for name in [
+        "mixed-fits.svg",
+        "mixed-residuals.svg",
+        "mixed-plane.svg",
+        "mixed-polar.svg",
+        "overview.svg",
+        "ndf.svg",
+    ] {
+        assert!(report.file(name).is_some(), "no {name}");
+    }
+    // The 300 in-plane points are drawn in each of the four panels of the fits figure.
+    let fits_svg = svg(&report, "mixed-fits.svg");
+    assert!(fits_svg.matches("<circle").count() >= 4 * 300);
+    let md = String::from_utf8(report.file("fits.md").unwrap().contents.clone()).unwrap();
+    assert_eq!(md.lines().filter(|l| l.starts_with("| mixed |")).count(), 4);
+    assert_eq!(md.lines().filter(|l| l.starts_with("- mixed: ")).count(), 1);
+}
+
+/// Two incident directions at the same `theta_i` and other azimuths are told apart in the plane
+/// figure: each has its own colour, as its legend entry says.
+#[test]
+fn incidences_at_one_theta_and_two_azimuths_get_two_colours() {
+    let truth = params(ModelKind::Ggx, 0.3, 0.0, 1.0);
+    let sample = stfit_fit::SynthSpec {
+        model: truth,
+        grid: stfit_fit::Grid::Spherical {
+            theta_i_deg: vec![30.0],
+            phi_i_deg: vec![0.0, 90.0],
+            theta_o_deg: (0..18).map(|k| 5.0 + 10.0 * k as f64).collect(),
+            phi_o_deg: (0..18).map(|k| 20.0 * k as f64).collect(),
+        },
+        noise: 0.0,
+        seed: 1,
+        name: "azimuths".into(),
+    }
+    .sample()
+    .unwrap();
+    let stored = vec![fit(&sample, truth, false)];
+    let data = Dataset {
+        source: PathBuf::from("azimuths"),
+        samples: vec![sample],
+    };
+    let report = render_report(&data, &stored, &ReportOptions::default()).unwrap();
+    let plane = svg(&report, "azimuths-plane.svg");
+    // The legend's line glyphs (stroke width 3): grey for "model", then one per incidence.
+    let colours: Vec<&str> = plane
+        .split("<polyline")
+        .skip(1)
+        .filter(|e| e.contains(r#"stroke-width="3""#))
+        .filter_map(|e| e.split(r#"stroke=""#).nth(1)?.split('"').next())
+        .filter(|c| *c != "#555555")
+        .collect();
+    assert_eq!(colours.len(), 2, "{colours:?}");
+    assert_ne!(
+        colours[0], colours[1],
+        "both incidences are drawn in {}",
+        colours[0]
     );
 }
