@@ -270,9 +270,25 @@ impl FitResult {
         if self.model.orders == ScatteringOrders::Single && self.multiple_term.is_some() {
             return Err("multiple_term must be null for orders single".to_owned());
         }
+        for w in &self.warnings {
+            let parameter = match w {
+                FitWarning::AtBound { parameter, .. }
+                | FitWarning::NotDifferentiable { parameter } => parameter,
+                FitWarning::SingularCurvature | FitWarning::FewInformativePoints { .. } => continue,
+            };
+            if !WARNED_PARAMETERS.contains(&parameter.as_str()) {
+                return Err(format!(
+                    "a warning's parameter must be alpha, gamma or eta, got '{}'",
+                    crate::data::short(parameter)
+                ));
+            }
+        }
         Ok(())
     }
 }
+
+/// The parameters a warning can name: the searched shape parameters.
+const WARNED_PARAMETERS: [&str; 3] = ["alpha", "gamma", "eta"];
 
 /// `Ok` for a finite `value` > 0, else a message naming the field `name`.
 fn positive(name: &str, value: f64) -> Result<(), String> {
@@ -651,6 +667,26 @@ mod tests {
                 "{edits:?}: {e}"
             );
         }
+        // A warning names one of the searched parameters.
+        let warned = |w: &str| {
+            edit(&[
+                ("warnings", w),
+                ("alpha_stderr", "null"),
+                ("gamma_stderr", "null"),
+                ("scale_stderr", "null"),
+            ])
+        };
+        for w in [
+            r#"[{"kind": "at-bound", "parameter": "beta", "bound": 20.0}]"#,
+            r#"[{"kind": "not-differentiable", "parameter": "scale"}]"#,
+        ] {
+            let e = warned(w).unwrap_err();
+            assert!(
+                e.contains("parameter must be alpha, gamma or eta"),
+                "{w}: {e}"
+            );
+        }
+        warned(r#"[{"kind": "at-bound", "parameter": "gamma", "bound": 501.5}]"#).unwrap();
         for edits in [
             &[("gamma_fixed", "true"), ("gamma_stderr", "null")][..],
             &[("eta_fixed", "false"), ("eta_stderr", "0.01")],
