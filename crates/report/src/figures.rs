@@ -98,12 +98,23 @@ fn params_line(p: &PanelView, with_scale: bool) -> String {
     params_text(p.fit, with_scale)
 }
 
+/// A held value as given (`3`, `2.5`) where that is short, else to 4 significant digits (a
+/// hand-edited `1e15` is `1.000e15`, not 16 digits).
+fn held_value(v: f64) -> String {
+    let given = v.to_string();
+    if given.len() <= 8 {
+        given
+    } else {
+        fmt_sig(v, 4)
+    }
+}
+
 /// A fit's parameters as a panel title states them: alpha, gamma, eta when fitted, scale and
 /// the rmse.
 pub(crate) fn params_text(fit: &stfit_fit::FitResult, with_scale: bool) -> String {
     let mut parts = vec![format!("α = {}", fmt_sig(fit.model.alpha, 4))];
     match fit.model.gamma {
-        stfit_fit::Gamma::Fixed(g) => parts.push(format!("γ = {g} (fixed)")),
+        stfit_fit::Gamma::Fixed(g) => parts.push(format!("γ = {} (fixed)", held_value(g))),
         stfit_fit::Gamma::Free(g) => parts.push(format!("γ = {}", fmt_sig(g, 4))),
         stfit_fit::Gamma::NotApplicable => {}
     }
@@ -576,4 +587,19 @@ fn draw_ndf_panel<DB: DrawingBackend>(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A held gamma reads as given when short (`3`, `2.5`); a hand-edited huge one is cut to
+    /// four significant digits instead of printing 16.
+    #[test]
+    fn held_values_read_as_given_unless_long() {
+        assert_eq!(held_value(3.0), "3");
+        assert_eq!(held_value(2.5), "2.5");
+        assert_eq!(held_value(1e15), fmt_sig(1e15, 4));
+        assert!(held_value(1e15).len() < 10, "{}", held_value(1e15));
+    }
 }

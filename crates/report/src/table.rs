@@ -169,7 +169,8 @@ pub fn fits_table(fits: &[FitResult]) -> String {
 /// model in panel order, each naming the model actually fitted (orders, masking, eta); the
 /// lowest rmse of each sample in bold; `not_drawn` are listed under their own heading.
 /// `figures` lists, per sample, its name and its figures
-/// as `(what, file)`; `overview` says whether the report has an overview figure.
+/// as `(what, file)`; `overview` says whether the report has an overview figure (whether it
+/// has in-plane samples, whose panels' y axis the text then states).
 pub fn fits_markdown(
     samples: &[(&str, Vec<&FitResult>)],
     not_drawn: &[NotDrawn<'_>],
@@ -199,17 +200,24 @@ pub fn fits_markdown(
         }
     };
     let rmse_header = rmse_header(all());
+    // Only in-plane samples have the panels whose y axis --y-axis chooses.
+    let y_axis = if overview {
+        format!(
+            " Figures of in-plane data plot {}.",
+            match opts.y_scale {
+                YScale::Sqrt => "sqrt(L)",
+                YScale::Linear => "L",
+            }
+        )
+    } else {
+        String::new()
+    };
     let _ = writeln!(
         md,
-        "{model}, each fit with the model it was fitted with. {} is over the points of \
+        "{model}, each fit with the model and loss it was fitted with. {} is over the points of \
          weight > 0 (the fitted points); ± gives standard errors; the lowest rmse of each sample \
-         is in bold; ⚠ marks a fit that cannot be trusted as it stands (see Warnings). Figures \
-         of in-plane data plot {}.\n",
+         is in bold; ⚠ marks a fit that cannot be trusted as it stands (see Warnings).{y_axis}\n",
         rmse_header,
-        match opts.y_scale {
-            YScale::Sqrt => "sqrt(L)",
-            YScale::Linear => "L",
-        }
     );
     let _ = writeln!(
         md,
@@ -232,7 +240,7 @@ pub fn fits_markdown(
             };
             let _ = writeln!(
                 md,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {}, {} loss | {} | {} | {} | {} | {} | {} | {} |",
                 sample_cell(name).replace('|', "\\|"),
                 if fit.flagged() {
                     format!("⚠ {}", ModelSlot::of(fit).title())
@@ -240,6 +248,7 @@ pub fn fits_markdown(
                     ModelSlot::of(fit).title().to_string()
                 },
                 model_description(&fit.model),
+                fit.loss.name(),
                 with_error(fit.model.alpha, fit.alpha_stderr, 4),
                 gamma_cell(fit, 4),
                 eta_cell(fit, 4),

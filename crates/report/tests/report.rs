@@ -399,10 +399,27 @@ fn fits_markdown_lists_every_fit_and_marks_the_best() {
     );
     assert!(
         direct.contains(
-            "| x | Student-T, γ fixed | single scattering, separable masking | \
+            "| x | Student-T, γ fixed | single scattering, separable masking, sqrt loss | \
              0.2500 ± 0.0010 | 3.000 (fixed) | 1.510 (fixed) |"
         ),
         "{direct}"
+    );
+    assert!(direct.contains("Figures of in-plane data plot sqrt(L)."));
+    // Without in-plane samples no panel has that y axis; a log-loss fit says its loss.
+    let mut log_fit = all[0].clone();
+    log_fit.loss = stfit_fit::Loss::Log;
+    log_fit.log_floor = Some(1e-3);
+    let general = fits_markdown(
+        &[("x", vec![&log_fit])],
+        &[],
+        &[],
+        false,
+        &ReportOptions::default(),
+    );
+    assert!(!general.contains("Figures of in-plane"), "{general}");
+    assert!(
+        general.contains("separable masking, log loss |"),
+        "{general}"
     );
 }
 
@@ -577,7 +594,7 @@ fn an_unnamed_sample_gets_a_file_name_and_a_title() {
     // The exact model has zero residual everywhere.
     assert!(
         svg(&report, "fits.md")
-            .contains("| (unnamed) | GGX | single scattering, separable masking | 0.3000 ± 0.0010 | - | 1.510 (fixed) | 1.000 ± 0.0040 | **0** |")
+            .contains("| (unnamed) | GGX | single scattering, separable masking, sqrt loss | 0.3000 ± 0.0010 | - | 1.510 (fixed) | 1.000 ± 0.0040 | **0** |")
     );
 }
 
