@@ -67,6 +67,14 @@ pub struct SphereSet {
 }
 
 impl SphereSet {
+    /// Every `(wi, wo)` pair of the set, row by row.
+    pub fn pairs(&self) -> Vec<(Vec3, Vec3)> {
+        self.rows
+            .iter()
+            .flat_map(|row| row.outgoing.iter().map(move |&wo| (row.wi, wo)))
+            .collect()
+    }
+
     /// The default set described in the module docs.
     pub fn standard() -> Self {
         Self::new(&INCIDENCE_DEG, N_THETA, N_PHI)

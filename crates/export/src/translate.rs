@@ -39,11 +39,7 @@ impl Reference {
     /// fit, with the fit's own walks and seed).
     pub fn new(model: &ExportModel, set: SphereSet) -> Result<Self, ExportError> {
         let eta = model.eta();
-        let pairs: Vec<(Vec3, Vec3)> = set
-            .rows
-            .iter()
-            .flat_map(|row| row.outgoing.iter().map(move |&wo| (row.wi, wo)))
-            .collect();
+        let pairs = set.pairs();
         let q = pairs
             .iter()
             .map(|&(wi, wo)| l_per_bsdf(wi, wo, eta))
@@ -88,13 +84,7 @@ impl Reference {
     /// ([`ExportModel::forward_walk_seconds`] on the standard set's pairs; the graded rows that
     /// may replace some of them have as many walks): 0 for a single-scattering fit.
     pub fn walk_seconds(model: &ExportModel) -> Result<f64, ExportError> {
-        let set = SphereSet::standard();
-        let pairs: Vec<(Vec3, Vec3)> = set
-            .rows
-            .iter()
-            .flat_map(|row| row.outgoing.iter().map(move |&wo| (row.wi, wo)))
-            .collect();
-        model.forward_walk_seconds(&pairs)
+        model.forward_walk_seconds(&SphereSet::standard().pairs())
     }
 
     /// Warnings for the export: incidences whose lobes even graded outgoing directions do not

@@ -20,7 +20,7 @@
 
 use super::{
     AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet,
-    warning_notes, xml_comment_text,
+    warning_notes, xml_comment,
 };
 use crate::target::Smith;
 use crate::translate::Reference;
@@ -70,20 +70,15 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
             roughness * roughness
         ));
     }
-    let mut text = String::from("<!--\n");
-    for n in provenance(
+    let mut notes = provenance(
         model,
         Some(&t),
         &[
             "appleseed glass_bsdf: GGX only (no mdf choice since appleseed 2.1), alpha = max(0.001, roughness^2), G = 1/(1 + Lambda_i + Lambda_o) (glassbsdf.cpp, microfacethelper.h, microfacet.cpp)",
         ],
-    ) {
-        text.push_str(&format!("  {}\n", xml_comment_text(&n)));
-    }
-    for w in warning_notes(&warnings) {
-        text.push_str(&format!("  {}\n", xml_comment_text(&w)));
-    }
-    text.push_str("-->\n");
+    );
+    notes.extend(warning_notes(&warnings));
+    let mut text = xml_comment(&notes);
     text.push_str(&format!("<bsdf name=\"{id}\" model=\"glass_bsdf\">\n"));
     let mut param = |n: &str, v: String| {
         text.push_str(&format!("    <parameter name=\"{n}\" value=\"{v}\" />\n"))

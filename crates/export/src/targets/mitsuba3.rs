@@ -14,7 +14,7 @@
 
 use super::{
     Export, ExportFile, Family1, Microfacet, XML_DECLARATION, XmlPart, provenance,
-    translate_microfacet, warning_notes, xml_comment_text,
+    translate_microfacet, warning_notes, xml_comment,
 };
 use crate::target::Smith;
 use crate::translate::{Reference, Translation};
@@ -88,11 +88,7 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         ],
     );
     notes.extend(warning_notes(&warnings));
-    let mut comment = String::from("<!--\n");
-    for n in &notes {
-        comment.push_str(&format!("  {}\n", xml_comment_text(n)));
-    }
-    comment.push_str("-->\n");
+    let comment = xml_comment(&notes);
     // Mitsuba reads a file (mi.load_file, <include>) whose root element has a version; the
     // bsdf inside a scene of several fits takes the scene's.
     let bsdf = |version: &str| {

@@ -327,6 +327,16 @@ pub fn translate_microfacet(
     }
 }
 
+/// An XML comment holding `notes`, one per line ([`xml_comment_text`]), with its line break.
+pub fn xml_comment(notes: &[String]) -> String {
+    let mut comment = String::from("<!--\n");
+    for n in notes {
+        comment.push_str(&format!("  {}\n", xml_comment_text(n)));
+    }
+    comment.push_str("-->\n");
+    comment
+}
+
 /// `text` made safe inside an XML comment (`<!-- ... -->`): XML 1.0 forbids `--` there, so a
 /// space goes between any two hyphens in a row (a run of three or more included, which one
 /// replacement of `--` by `- -` would leave as `- --`) and after a final hyphen (which would

@@ -26,7 +26,7 @@
 
 use super::{
     AlphaMap, Export, ExportFile, Family1, Microfacet, XML_DECLARATION, XmlPart, provenance,
-    translate_microfacet, warning_notes, xml_comment_text,
+    translate_microfacet, warning_notes, xml_comment,
 };
 use crate::target::{CoreMicrofacet, Mixture, Smith, TargetDielectric};
 use crate::translate::{
@@ -164,11 +164,7 @@ pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Ex
         }
     ));
     notes.extend(warning_notes(&warnings));
-    let mut comment = String::from("<!--\n");
-    for n in &notes {
-        comment.push_str(&format!("  {}\n", xml_comment_text(n)));
-    }
-    comment.push_str("-->\n");
+    let comment = xml_comment(&notes);
     let mut text = String::new();
     text.push_str(&format!(
         "  <open_pbr_surface name=\"{id}\" type=\"surfaceshader\">\n"
