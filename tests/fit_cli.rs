@@ -518,6 +518,32 @@ fn all_orders_refuse_separable_masking_and_zero_walks() {
     }
 }
 
+/// The help of the commands that model a measurement (fit, report, synth) lists `--orders`
+/// single and all only, since they refuse multiple; the commands that evaluate a surface
+/// (eval, albedo, tables) list all three.
+#[test]
+fn orders_help_lists_the_values_each_command_takes() {
+    let values = |cmd: &[&str]| {
+        let mut args = cmd.to_vec();
+        args.push("--help");
+        let out = stfit_ok(&args);
+        let text = out.stdout.as_str();
+        let at = text.find("\n      --orders").expect("an --orders option");
+        let block = &text[at..];
+        let end = block[1..].find("\n      --").map_or(block.len(), |e| e + 1);
+        let listed: Vec<&str> = ["single", "multiple", "all"]
+            .into_iter()
+            .filter(|v| block[..end].contains(&format!("- {v}:")))
+            .collect();
+        listed
+    };
+    for cmd in [&[][..], &["report"], &["synth"]] {
+        assert_eq!(values(cmd), ["single", "all"], "{cmd:?}");
+    }
+    for cmd in [&["eval"][..], &["albedo"], &["tables"]] {
+        assert_eq!(values(cmd), ["single", "multiple", "all"], "{cmd:?}");
+    }
+}
 /// `stfit synth --orders all` writes all-orders data (recorded in its comment) that
 /// `--orders all` fits back to the truth.
 #[test]

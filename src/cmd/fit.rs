@@ -14,7 +14,7 @@ use stfit_fit::{
 use stfit_report::fits_table;
 
 use super::{
-    CmdError, CmdResult, MaskingArg, OrdersArg, Retired, failed, masking_of, print_stdout,
+    CmdError, CmdResult, MaskingArg, MeasuredOrdersArg, Retired, failed, masking_of, print_stdout,
     refuse_overwriting_input, usage, walks_only, write_file,
 };
 
@@ -84,8 +84,8 @@ pub struct FitOptionArgs {
     /// (the height-correlated single-scattering BSDF plus the random walk's orders >= 2, with
     /// the same random numbers at every evaluation, deterministic for a --seed; it starts from
     /// the single-scattering optimum and is slower; use the default Nelder-Mead).
-    #[arg(long, value_enum, default_value_t = OrdersArg::Single)]
-    pub orders: OrdersArg,
+    #[arg(long, value_enum, default_value_t = MeasuredOrdersArg::Single)]
+    pub orders: MeasuredOrdersArg,
     /// Random walks per incidence direction per model evaluation (--orders all).
     #[arg(long, value_name = "N", default_value_t = DEFAULT_WALKS)]
     pub walks: u64,
@@ -169,7 +169,7 @@ impl FitOptionArgs {
                     "--gamma fixes the Student-T shape; it needs --model student-t",
                 ));
             }
-            let check = if self.orders == OrdersArg::All {
+            let check = if self.orders == MeasuredOrdersArg::All {
                 stfit_core::error::check_walk_gamma
             } else {
                 stfit_core::error::check_gamma

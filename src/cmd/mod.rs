@@ -149,6 +149,30 @@ impl From<OrdersArg> for ScatteringOrders {
     }
 }
 
+/// `--orders` of the commands that model a measurement (fit, report, synth): the same words as
+/// [`OrdersArg`], but `multiple` is not listed, since orders >= 2 alone model no measurement;
+/// it is still parsed, so that the command refuses it with that reason.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MeasuredOrdersArg {
+    /// Order 1: paths that scatter exactly once.
+    Single,
+    /// Orders >= 2 only (refused: no measurement holds them alone).
+    #[value(hide = true)]
+    Multiple,
+    /// Every order: the full BSDF.
+    All,
+}
+
+impl From<MeasuredOrdersArg> for ScatteringOrders {
+    fn from(o: MeasuredOrdersArg) -> Self {
+        match o {
+            MeasuredOrdersArg::Single => Self::Single,
+            MeasuredOrdersArg::Multiple => Self::Multiple,
+            MeasuredOrdersArg::All => Self::All,
+        }
+    }
+}
+
 /// The masking of `orders`: as given, or the default of the orders; the library's one rule
 /// (orders >= 2 need correlated masking) applied, a violation being a usage error.
 pub fn masking_of(

@@ -9,7 +9,7 @@ use stfit_fit::synth::{SynthSpec, parse_angle_list, write_csv, write_file};
 use stfit_fit::{DEFAULT_ETA, DEFAULT_WALKS, Gamma, Grid, Model, ModelKind, SynthError};
 
 use super::{
-    CmdError, CmdResult, MaskingArg, OrdersArg, Retired, check_eta_arg, failed, masking_of,
+    CmdError, CmdResult, MaskingArg, MeasuredOrdersArg, Retired, check_eta_arg, failed, masking_of,
     print_stdout, usage, walks_only,
 };
 
@@ -79,8 +79,8 @@ pub struct SynthArgs {
     /// Scattering orders: single, or all (the random walk's orders >= 2, --walks per incidence
     /// direction seeded with --seed, added to the height-correlated single-scattering BTDF, as
     /// the fit of --orders all models it).
-    #[arg(long, value_enum, default_value_t = OrdersArg::Single)]
-    pub orders: OrdersArg,
+    #[arg(long, value_enum, default_value_t = MeasuredOrdersArg::Single)]
+    pub orders: MeasuredOrdersArg,
     /// Random walks per incidence direction (--orders all).
     #[arg(long, value_name = "N", default_value_t = DEFAULT_WALKS)]
     pub walks: u64,

@@ -1,12 +1,11 @@
 //! `stfit tables`: directional-albedo (energy-compensation) tables, and `stfit tables merge`.
 //! Argument parsing and printing only; the work is in `stfit-tables`.
 
-use super::{CmdError, CmdResult, print_stdout, refuse_overwriting_input};
+use super::{CmdError, CmdResult, OrdersArg, print_stdout, refuse_overwriting_input};
 use clap::{Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use stfit_core::walk::ScatteringOrders;
 use stfit_tables::format::{Format, shard};
 use stfit_tables::grid::Axis;
 use stfit_tables::options::{
@@ -136,13 +135,6 @@ pub enum SurfaceArg {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum OrdersArg {
-    Single,
-    Multiple,
-    All,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum MaskingArg {
     Correlated,
     ReflectionForm,
@@ -206,11 +198,7 @@ fn options(a: &TableArgs) -> TableOptions {
         },
         n: a.n,
         k: a.k,
-        orders: match a.orders {
-            OrdersArg::Single => ScatteringOrders::Single,
-            OrdersArg::Multiple => ScatteringOrders::Multiple,
-            OrdersArg::All => ScatteringOrders::All,
-        },
+        orders: a.orders.into(),
         masking: match a.masking {
             MaskingArg::Correlated => TableMasking::Correlated,
             MaskingArg::ReflectionForm => TableMasking::ReflectionForm,
