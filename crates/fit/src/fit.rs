@@ -1025,6 +1025,10 @@ fn finish(
             });
             StandardErrors::default()
         }
+        Curvature::TotalReflectionOnset { onset, share } => {
+            warnings.push(FitWarning::TotalReflectionOnset { onset, share });
+            StandardErrors::default()
+        }
     };
     // A flagged fit has no standard errors: its curvature does not describe an interior
     // optimum of well-determined parameters.
@@ -1081,6 +1085,10 @@ enum Curvature {
     /// finite difference: the one-sided differences of its column disagree by more than
     /// [`KINK_RATIO`].
     NotDifferentiable(&'static str),
+    /// A free eta's information comes mostly from pairs near the index where they turn totally
+    /// reflected ([`total_reflection_onset`]): the onset of the pair that carries the most,
+    /// and the share of the information of those pairs.
+    TotalReflectionOnset { onset: f64, share: f64 },
 }
 
 /// The largest squared norm of the difference between a column's forward and backward
@@ -1094,6 +1102,53 @@ enum Curvature {
 /// general grids at eta 1.7 with 5% noise, their ratios of 0.01 to 0.8 came with standard
 /// errors that were still calibrated, (fitted - true) / stderr within 3.
 const KINK_RATIO: f64 = 2.0;
+
+/// The reach, in standard errors of a free eta, within which a pair's total-reflection onset
+/// counts as near the fitted eta ([`total_reflection_onset`]).
+const ONSET_REACH: f64 = 3.0;
+
+/// The share of a free eta's information above which the pairs near their onset make its
+/// standard error unreliable ([`total_reflection_onset`]).
+const ONSET_SHARE: f64 = 0.5;
+
+/// Whether a free eta's standard error `se` at the fitted `eta` rests on pairs near their
+/// total-reflection onset (`onsets`, per point, [`Forward::total_reflection_etas`]): the points
+/// whose onset lies within [`ONSET_REACH`] standard errors of `eta` carry more than
+/// [`ONSET_SHARE`] of the eta information `sum_j col_j^2` (`col` the eta column of the weighted
+/// Jacobian). Returns the onset of the nearby point that carries the most, and the nearby
+/// points' share.
+///
+/// Below its onset a pair's model differs from its value there by about the square root of the
+/// distance, so its slope in eta changes by a large factor within a standard error of the
+/// optimum and the linearisation behind the standard error fails; noise can also draw the fit
+/// onto the onset, where the slope is infinite. Measured on synthetic general data with light
+/// from inside (200 seeds each, 5% noise, fitted with free eta): Beckmann alpha 0.5, true eta
+/// 1.45, log loss, correlated masking: the 5 fits that ended 5.6 to 27 standard errors from the
+/// truth had 94% to 99% of the information within 3 standard errors of an onset (one pair and
+/// its mirror image), the others none. GGX alpha 0.5, true eta 1.5 (an onset at 1.500), sqrt
+/// loss: 186 fits had 73% to 99%, and they held all 7 fits that ended more than 4 standard
+/// errors from the truth (9 beyond 3: 4.8% against 0.27% for a calibrated error).
+fn total_reflection_onset(
+    col: &[f64],
+    onsets: &[Option<f64>],
+    eta: f64,
+    se: f64,
+) -> Option<(f64, f64)> {
+    let total: f64 = col.iter().map(|c| c * c).sum();
+    let (mut near, mut top) = (0.0, None::<(f64, f64)>);
+    for (c, onset) in col.iter().zip(onsets) {
+        let Some(onset) = *onset else { continue };
+        if (onset - eta).abs() < ONSET_REACH * se {
+            let info = c * c;
+            near += info;
+            if top.is_none_or(|(_, best)| info > best) {
+                top = Some((onset, info));
+            }
+        }
+    }
+    let share = near / total;
+    (share > ONSET_SHARE).then(|| (top.map_or(eta, |t| t.0), share))
+}
 
 /// Standard errors of `(alpha, [gamma], [eta], [scale])` as in the module docs, in the fit's
 /// units, or why there are none: a singular curvature (also a standard error that is not a
@@ -1217,6 +1272,13 @@ fn standard_errors(
     }
     if se.iter().zip(&widths).any(|(s, w)| s > w) {
         return Ok(Curvature::Singular);
+    }
+    if eval.shape.eta.is_free() {
+        let k = 1 + usize::from(p.gamma.is_free());
+        let onsets = eval.prep.forward.total_reflection_etas();
+        if let Some((onset, share)) = total_reflection_onset(&cols[k], &onsets, p.eta, se[k]) {
+            return Ok(Curvature::TotalReflectionOnset { onset, share });
+        }
     }
     let mut se = se.into_iter();
     Ok(Curvature::Errors(StandardErrors {
@@ -1489,6 +1551,25 @@ mod tests {
         );
         assert_eq!(counted(0, "usable point"), "0 usable points");
         assert_eq!(counted(3, "parameter"), "3 parameters");
+    }
+
+    /// The pairs near a total-reflection onset are those within [`ONSET_REACH`] standard
+    /// errors of eta, on either side; the fit is flagged when they carry more than
+    /// [`ONSET_SHARE`] of the eta information, and the onset named is the one of the nearby
+    /// pair that carries the most.
+    #[test]
+    fn onset_is_flagged_by_the_share_of_nearby_pairs() {
+        let onsets = [None, Some(1.452), Some(1.4485), Some(1.40)];
+        // Within 3 standard errors of 0.001: 1.452 (2 errors above) and 1.4485 (1.5 below).
+        let col = [1.0, 1.0, 0.5, 3.0];
+        assert_eq!(total_reflection_onset(&col, &onsets, 1.45, 0.001), None);
+        let col = [0.5, 1.0, 0.8, 0.1];
+        let (onset, share) = total_reflection_onset(&col, &onsets, 1.45, 0.001).unwrap();
+        assert_eq!(onset, 1.452);
+        assert!((share - (1.0 + 0.64) / (0.25 + 1.0 + 0.64 + 0.01)).abs() < 1e-12);
+        // Out of reach at a smaller standard error.
+        assert_eq!(total_reflection_onset(&col, &onsets, 1.45, 0.0005), None);
+        assert_eq!(total_reflection_onset(&col, &[None; 4], 1.45, 0.001), None);
     }
 
     #[test]

@@ -184,6 +184,15 @@ impl Forward {
         etas
     }
 
+    /// Per pair, the glass index above which it is totally internally reflected
+    /// ([`HalfVector::total_reflection_eta`]: reflection pairs inside the glass), else `None`.
+    pub fn total_reflection_etas(&self) -> Vec<Option<f64>> {
+        self.pairs
+            .iter()
+            .map(|&(wi, wo)| HalfVector::total_reflection_eta(wi, wo))
+            .collect()
+    }
+
     /// The measured quantity per unit BSDF value of pair `j` for glass index `eta`.
     fn q(&self, j: usize, eta: f64) -> f64 {
         match self.quantity[j] {

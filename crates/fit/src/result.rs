@@ -95,6 +95,13 @@ pub enum FitWarning {
     /// horizontal, or where total internal reflection sets in), so the optimum may be pinned
     /// on that edge and a linearisation gives no valid standard error.
     NotDifferentiable { parameter: String },
+    /// A free eta's information comes mostly (`share`, above one half) from pairs inside the
+    /// glass near the index where they turn totally internally reflected (within 3 standard
+    /// errors of the fitted eta; `onset` is the index of the one that carries the most). Just
+    /// below its onset a pair's model changes with the square root of the distance to it, so
+    /// the linearisation behind the standard errors fails and noise can draw the fit onto the
+    /// onset.
+    TotalReflectionOnset { onset: f64, share: f64 },
 }
 
 impl std::fmt::Display for FitWarning {
@@ -122,6 +129,15 @@ impl std::fmt::Display for FitWarning {
                 f,
                 "the model is not differentiable in {parameter} at the optimum (it jumps or \
                  kinks there): the fit may sit on that edge and has no standard errors"
+            ),
+            Self::TotalReflectionOnset { onset, share } => write!(
+                f,
+                "{:.0}% of the information on eta comes from pairs inside the glass near the \
+                 index where they turn totally reflected (the largest part from one whose onset \
+                 is eta = {onset:.5}): the model is far from linear in eta there, the fit may be \
+                 drawn onto the onset, and it has no standard errors; hold eta, or give those \
+                 pairs weight 0",
+                share * 100.0
             ),
         }
     }
@@ -275,6 +291,27 @@ impl FitResult {
                 FitWarning::AtBound { parameter, .. }
                 | FitWarning::NotDifferentiable { parameter } => parameter,
                 FitWarning::SingularCurvature | FitWarning::FewInformativePoints { .. } => continue,
+                FitWarning::TotalReflectionOnset { onset, share } => {
+                    if self.eta_fixed {
+                        return Err("a total-reflection-onset warning is one of a fitted eta \
+                                    (eta_fixed false)"
+                            .to_owned());
+                    }
+                    if !(onset.is_finite() && *onset >= 1.0) {
+                        return Err(format!(
+                            "a total-reflection-onset warning's onset must be a finite index \
+                             >= 1, got {}",
+                            show(*onset)
+                        ));
+                    }
+                    if !(*share > 0.0 && *share <= 1.0) {
+                        return Err(format!(
+                            "a total-reflection-onset warning's share must be in (0, 1], got {}",
+                            show(*share)
+                        ));
+                    }
+                    continue;
+                }
             };
             if !WARNED_PARAMETERS.contains(&parameter.as_str()) {
                 return Err(format!(
@@ -687,6 +724,31 @@ mod tests {
             );
         }
         warned(r#"[{"kind": "at-bound", "parameter": "gamma", "bound": 501.5}]"#).unwrap();
+        // A total-reflection onset is an index >= 1 of a fit of eta, with a share in (0, 1].
+        let onset = |w: &str, eta_fixed: &str| {
+            edit(&[
+                ("warnings", w),
+                ("eta_fixed", eta_fixed),
+                ("alpha_stderr", "null"),
+                ("gamma_stderr", "null"),
+                ("scale_stderr", "null"),
+            ])
+        };
+        for (w, eta_fixed, needle) in [
+            (r#"{"onset": 0.5, "share": 0.9}"#, "false", "onset must be"),
+            (r#"{"onset": 1.45, "share": 1.5}"#, "false", "share must be"),
+            (r#"{"onset": 1.45, "share": 0}"#, "false", "share must be"),
+            (r#"{"onset": 1.45, "share": 0.9}"#, "true", "fitted eta"),
+        ] {
+            let w = format!(r#"[{{"kind": "total-reflection-onset", {}]"#, &w[1..]);
+            let e = onset(&w, eta_fixed).unwrap_err();
+            assert!(e.contains(needle), "{w}: {e}");
+        }
+        onset(
+            r#"[{"kind": "total-reflection-onset", "onset": 1.449, "share": 0.94}]"#,
+            "false",
+        )
+        .unwrap();
         for edits in [
             &[("gamma_fixed", "true"), ("gamma_stderr", "null")][..],
             &[("eta_fixed", "false"), ("eta_stderr", "0.01")],

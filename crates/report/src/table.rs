@@ -77,7 +77,7 @@ fn sample_cell(name: &str) -> String {
 }
 
 /// A fit's warnings as short codes for a table cell: `at-bound(alpha)`, `singular`,
-/// `few-points`, `kink(eta)`, comma-separated; empty for an unflagged fit.
+/// `few-points`, `kink(eta)`, `tir-onset(eta)`, comma-separated; empty for an unflagged fit.
 pub fn warning_codes(fit: &FitResult) -> String {
     fit.warnings
         .iter()
@@ -86,6 +86,7 @@ pub fn warning_codes(fit: &FitResult) -> String {
             FitWarning::SingularCurvature => "singular".to_string(),
             FitWarning::FewInformativePoints { .. } => "few-points".to_string(),
             FitWarning::NotDifferentiable { parameter } => format!("kink({parameter})"),
+            FitWarning::TotalReflectionOnset { .. } => "tir-onset(eta)".to_string(),
         })
         .collect::<Vec<_>>()
         .join(",")

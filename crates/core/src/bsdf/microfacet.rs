@@ -320,6 +320,21 @@ impl HalfVector {
         Some(above.z / -below.z)
     }
 
+    /// The glass index above which the reflection pair `(wi, wo)` inside the glass (both
+    /// directions below the macro-surface) is totally internally reflected: `1 / sin(theta_ih)`,
+    /// with `theta_ih` the angle from either direction to the pair's half vector (above it,
+    /// `eta sin(theta_ih) > 1` leaves the facet no refracted ray). Just below it the pair's
+    /// Fresnel factor, and with it its single-scattering BSDF, differs from its value at the
+    /// index by about the square root of the distance to it: a slope in eta that is infinite
+    /// at the index. `None` for other pairs and for a retro-reflection (`wi = wo`).
+    pub fn total_reflection_eta(wi: Vec3, wo: Vec3) -> Option<f64> {
+        if wi.z >= 0.0 || wo.z >= 0.0 {
+            return None;
+        }
+        let sin2 = reflection_sin2(wi, wo);
+        (sin2 > 0.0).then(|| 1.0 / sin2.sqrt())
+    }
+
     /// The half vector for given indices and lobe, oriented so that `h.toward > 0` (`toward`
     /// not perpendicular to it); `None` for a zero or non-finite vector.
     #[inline]
@@ -644,6 +659,34 @@ mod tests {
         let hv = HalfVector::new(wi, wo, 1.5).unwrap();
         assert!((hv.h - m).norm() < 1e-12, "{:?} vs {m:?}", hv.h);
         assert!(!hv.reflect);
+    }
+
+    /// Above its `total_reflection_eta` a reflection pair inside the glass is totally
+    /// reflected (Fresnel factor 1) and below it is not; pairs that are not reflections inside
+    /// the glass, and a retro-reflection, have no such index.
+    #[test]
+    fn total_reflection_eta_is_where_the_pair_turns_totally_reflected() {
+        let wi = Vec3::new(0.5, 0.1, -0.8).normalize();
+        for wo in [
+            Vec3::new(-0.6, -0.1, -0.5).normalize(),
+            Vec3::new(-0.2, 0.3, -0.9).normalize(),
+        ] {
+            let onset = HalfVector::total_reflection_eta(wi, wo).unwrap();
+            assert!(onset > 1.0 && onset < 3.0, "{onset}");
+            let f = |eta: f64| {
+                HalfVector::new(wi, wo, eta)
+                    .unwrap()
+                    .dielectric_fresnel(eta)
+            };
+            assert_eq!(f(onset * (1.0 + 1e-9)), 1.0);
+            assert!(f(onset * (1.0 - 1e-6)) < 1.0);
+            assert!(f(onset * 0.9) < 0.5);
+        }
+        let up = |w: Vec3| Vec3::new(w.x, w.y, -w.z);
+        let wo = Vec3::new(-0.6, -0.1, -0.5).normalize();
+        assert_eq!(HalfVector::total_reflection_eta(up(wi), up(wo)), None);
+        assert_eq!(HalfVector::total_reflection_eta(up(wi), wo), None);
+        assert_eq!(HalfVector::total_reflection_eta(wi, wi), None);
     }
 
     /// Across its `horizontal_eta` a transmission pair gains or loses its refracting facet,
