@@ -76,12 +76,16 @@ fn general_data_of_every_ndf_are_recovered_with_free_eta() {
             r.model.scale,
             r.rmse_sqrt_l
         );
-        // Eta has a standard error, unless the optimum is pinned where a point's refraction
-        // ends (the Student-T case here ends at eta 1.448946, as 4 of 30 seeds of `synth
-        // --grid general` do): then the fit says so and gives none.
-        let pinned = r.warnings.iter().any(
-            |w| matches!(w, FitWarning::NotDifferentiable { parameter } if parameter == "eta"),
-        );
+        // Eta has a standard error, unless the optimum is pinned on a total-reflection onset
+        // or rests on pairs near one (the Student-T case here has the onset of one pair inside
+        // the glass and its mirror image at eta 1.448946; of 30 seeds of `synth --grid general
+        // --model student-t --alpha 0.3 --gamma 2.6 --eta 1.45 --noise 0.025`, 4 end on it
+        // and are not differentiable there, 1 rests on it): then the fit says so and gives
+        // none.
+        let pinned = r.warnings.iter().any(|w| {
+            matches!(w, FitWarning::NotDifferentiable { parameter } if parameter == "eta")
+                || matches!(w, FitWarning::TotalReflectionOnset { .. })
+        });
         assert!(!r.eta_fixed && (r.eta_stderr.is_some_and(|s| s > 0.0) || pinned));
         assert!(rel(r.model.alpha, truth.alpha) < 0.03, "{truth:?}: {r:?}");
         assert!(rel(r.model.eta, truth.eta) < 0.005, "{truth:?}: {r:?}");
