@@ -95,12 +95,12 @@ pub enum FitWarning {
     /// horizontal, or where total internal reflection sets in), so the optimum may be pinned
     /// on that edge and a linearisation gives no valid standard error.
     NotDifferentiable { parameter: String },
-    /// A free eta's information comes mostly (`share`, above one half) from pairs inside the
-    /// glass near the index where they turn totally internally reflected (within 3 standard
-    /// errors of the fitted eta; `onset` is the index of the one that carries the most). Just
-    /// below its onset a pair's model changes with the square root of the distance to it, so
-    /// the linearisation behind the standard errors fails and noise can draw the fit onto the
-    /// onset.
+    /// More than half (`share`) of a free eta's information comes from the pairs inside the
+    /// glass of one total-reflection onset (the index `onset` at and above which they are
+    /// totally internally reflected: a pair, its mirror image, its reverse). Just below its
+    /// onset a pair's model changes with the square root of the distance to it, so its slope in
+    /// eta is unbounded: eta and its standard error then rest on that pair's noise, the
+    /// linearisation behind standard errors fails, and the fit can be drawn onto the onset.
     TotalReflectionOnset { onset: f64, share: f64 },
 }
 
@@ -132,11 +132,11 @@ impl std::fmt::Display for FitWarning {
             ),
             Self::TotalReflectionOnset { onset, share } => write!(
                 f,
-                "{:.0}% of the information on eta comes from pairs inside the glass near the \
-                 index where they turn totally reflected (the largest part from one whose onset \
-                 is eta = {onset:.5}): the model is far from linear in eta there, the fit may be \
-                 drawn onto the onset, and it has no standard errors; hold eta, or give those \
-                 pairs weight 0",
+                "{:.0}% of the information on eta comes from the pairs inside the glass that \
+                 turn totally reflected at eta = {onset:.5}: near that index their model changes \
+                 with the square root of the distance to it, so eta rests on their noise and may \
+                 be drawn onto the index, and the fit has no standard errors; hold eta at a known \
+                 index",
                 share * 100.0
             ),
         }

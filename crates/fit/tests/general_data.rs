@@ -156,9 +156,12 @@ fn exact_data_are_recovered_from_across_a_jump_near_the_optimum() {
 }
 
 /// Exact data are recovered exactly, under every loss, and with the scale held at its value.
+/// (Not at eta 1.5: the pair inside the glass at 150 and 125 degrees, azimuths 0 and 160,
+/// turns totally reflected at 1.50063, and its unbounded slope there outweighs every other
+/// point's information on eta, so fits there can carry `total-reflection-onset`.)
 #[test]
 fn exact_general_data_are_recovered_under_every_loss_and_with_a_fixed_scale() {
-    let truth = model(ModelKind::StudentT, 0.35, Some(3.0), 1.5, 1.0);
+    let truth = model(ModelKind::StudentT, 0.35, Some(3.0), 1.52, 1.0);
     let sample = general_sample(&truth, 0.0, 1);
     for loss in [Loss::Sqrt, Loss::Linear, Loss::Log] {
         for scale in [Parameter::Free, Parameter::Fixed(1.0)] {
@@ -174,8 +177,9 @@ fn exact_general_data_are_recovered_under_every_loss_and_with_a_fixed_scale() {
                 rel(r.model.gamma.value().unwrap(), 3.0) < 1e-4,
                 "{what}: {r:?}"
             );
-            assert!(rel(r.model.eta, 1.5) < 1e-6, "{what}: {r:?}");
+            assert!(rel(r.model.eta, 1.52) < 1e-6, "{what}: {r:?}");
             assert!(rel(r.model.scale, 1.0) < 1e-5, "{what}: {r:?}");
+            assert!(r.warnings.is_empty(), "{what}: {r:?}");
             assert_eq!(r.scale_fixed, scale == Parameter::Fixed(1.0));
             assert_eq!(r.scale_stderr.is_none(), r.scale_fixed);
             assert_eq!(r.log_floor.is_some(), loss == Loss::Log);
