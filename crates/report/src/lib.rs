@@ -225,6 +225,27 @@ fn push_figure(
     Ok(())
 }
 
+/// Estimated wall time, in seconds, of the random walks that [`render_report`] runs to draw
+/// `fits` against `data` with `opts`, for a note before a long run: the orders >= 2 term of
+/// every all-orders fit at the points of its panel, curves and measured points alike (one set
+/// of `walks` walks per incident direction, [`stfit_fit::Model::walk_seconds`]: a pilot run of
+/// those walks, at most a sixteenth of their work), summed over the panels of every sample.
+/// 0 without all-orders fits; fits that [`render_report`] refuses, or cannot evaluate, count 0.
+pub fn walk_seconds(data: &Dataset, fits: &[FitResult], opts: &ReportOptions) -> f64 {
+    let Ok(slots) = assign_fits(data, fits) else {
+        return 0.0;
+    };
+    data.samples
+        .iter()
+        .zip(slots)
+        .map(|(sample, fits)| {
+            let (ip, general_part) = split_by_form(sample);
+            ip.map_or(0.0, |s| SampleView::walk_seconds(&s, fits, opts))
+                + general_part.map_or(0.0, |s| GeneralView::walk_seconds(&s, fits))
+        })
+        .sum()
+}
+
 /// Draws the report of `fits` (any subset of the four panels per sample; panels without a fit
 /// show the data alone) against `data`. Every fit must name a sample of `data`, have been made
 /// on its number of points of weight > 0, and be the only one of its model for that sample.

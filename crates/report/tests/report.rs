@@ -7,7 +7,7 @@ use stfit_fit::{
 };
 use stfit_report::{
     ModelSlot, ReportError, ReportOptions, YScale, clip_below, file_stem, fits_markdown, fmt_sig,
-    render_report,
+    render_report, walk_seconds,
 };
 
 const ANGLES: [f64; 4] = [0.0, 30.0, 60.0, 80.0];
@@ -790,6 +790,41 @@ fn figure_titles_name_the_orders_of_the_fits() {
     let single = dataset();
     let report = render_report(&single, &fits(&single), &ReportOptions::default()).unwrap();
     assert!(svg(&report, "overview.svg").contains("single-scattering fits"));
+}
+
+/// The time the report's walks will take is estimated from those walks: nothing for
+/// single-scattering fits, some time for an all-orders fit, for a hand-edited 1e9 walks per
+/// incident direction far beyond the 10 s that a note announces, and for fits that the report
+/// refuses nothing.
+#[test]
+fn the_walks_of_all_orders_fits_are_timed_before_they_run() {
+    let opts = ReportOptions::default();
+    let single = dataset();
+    assert_eq!(walk_seconds(&single, &fits(&single), &opts), 0.0);
+    let truth = params(ModelKind::Ggx, 0.3, 0.0, 1.0);
+    let sample = synth_sample("all orders", truth, 0.02);
+    let all = |walks| Model {
+        masking: stfit_fit::Masking::Correlated,
+        orders: stfit_fit::ScatteringOrders::All,
+        walks: Some(walks),
+        seed: Some(1),
+        ..truth
+    };
+    let data = Dataset {
+        source: PathBuf::from("synthetic"),
+        samples: vec![sample.clone()],
+    };
+    let few = fit(&sample, all(2000), false);
+    let seconds = walk_seconds(&data, std::slice::from_ref(&few), &opts);
+    assert!(seconds > 0.0 && seconds < 10.0, "{seconds}");
+    // Hand-edited, as in a fits file: the stored rmse is that of 2000 walks.
+    let mut many = few.clone();
+    many.model.walks = Some(1_000_000_000);
+    let seconds = walk_seconds(&data, std::slice::from_ref(&many), &opts);
+    assert!(seconds > 100.0, "{seconds}");
+    let mut foreign = many;
+    foreign.n_points += 1;
+    assert_eq!(walk_seconds(&data, &[foreign], &opts), 0.0);
 }
 
 /// A sample that mixes in-plane and general points (files of both forms merged by name, one
