@@ -398,3 +398,41 @@ fn a_report_whose_walks_take_long_says_so_before_it_runs() {
     assert!(!quick.stderr.contains("note:"), "{}", quick.stderr);
     assert!(out.join("frosted-fits.png").exists());
 }
+
+/// Samples whose names map to one file name are all reported: `a b` and `a_b` (the space
+/// becomes `_`) and `A_B` (the same name where file names ignore case), the example's three
+/// samples renamed. The later samples' figures get `-2` and `-3`, and fits.md links each
+/// sample's figures under its own name, which each figure's title gives.
+#[test]
+fn samples_that_map_to_one_file_name_are_all_reported() {
+    let dir = CaseDir::new("same-file-name");
+    let names = ["a b", "a_b", "A_B"];
+    let csv: String = std::fs::read_to_string(example())
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let l = l
+                .replacen("frosted,", "a b,", 1)
+                .replacen("etched,", "a_b,", 1)
+                .replacen("ground,", "A_B,", 1);
+            format!("{l}\n")
+        })
+        .collect();
+    let data = dir.file("collide.csv", csv);
+    let out = dir.join("out");
+    stfit_ok(&["report", p(&data), "--out", p(&out)]);
+    let stems = ["a_b", "a_b-2", "A_B-3"];
+    assert_eq!(files_in(&out), expected_files(&stems));
+    let md = read(&out, "fits.md");
+    for (sample, stem) in names.iter().zip(stems) {
+        let line =
+            format!("- {sample}: [fits]({stem}-fits.png), [residuals]({stem}-residuals.png)");
+        assert!(md.lines().any(|l| l == line), "{line} not in {md}");
+        assert_eq!(table_rows(&md, sample).len(), 4, "{sample}");
+        assert!(
+            read(&out, &format!("{stem}-fits.svg"))
+                .contains(&format!("{sample}: measured transmission")),
+            "{stem}-fits.svg"
+        );
+    }
+}
