@@ -1,8 +1,8 @@
 """The long-run notes' estimates against the runs they announce: for `eval` with random walks,
 `albedo`, `export --to radiance` of a pane, `export --to mitsuba3` of an all-orders fit and
 `report --fits` of that fit with its walks edited up, the time the pilot run said on stderr and
-the wall time the run then took (for the report, loading the data and drawing its figures,
-about a second, included).
+the wall time the run then took (for the report, loading the data and drawing its one panel,
+under 0.1 s, included).
 
 Usage: python3 python/bench/long_run_estimates.py [SCALE]   (from the repository root, after
 `cargo build --release`; SCALE multiplies every run's walks, default 1: each run is announced
