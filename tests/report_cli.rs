@@ -316,3 +316,123 @@ fn model_flag_of_a_report_must_be_all() {
         assert!(run.stderr.contains("--model all"), "{}", run.stderr);
     }
 }
+
+/// A report that reruns long random walks says so before it starts, as `export` does: the
+/// example's GGX fit of `frosted`, hand-edited to all orders with 1e9 walks per incidence,
+/// announces more than a minute and a half (80 min on a loaded 2-core machine), read from
+/// stderr while the report runs, which the test then stops. The same fit with 200 walks says
+/// nothing.
+#[test]
+fn a_report_whose_walks_take_long_says_so_before_it_runs() {
+    use std::io::{BufRead, BufReader};
+    let dir = CaseDir::new("report-long-run");
+    let example_fits = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fits/example-fits.json");
+    let mut file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(example_fits).unwrap()).unwrap();
+    let all_orders = |walks: u64| {
+        let mut fit = file["fits"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|f| f["sample"] == "frosted" && f["model"] == "ggx")
+            .unwrap()
+            .clone();
+        fit["orders"] = "all".into();
+        fit["masking"] = "correlated".into();
+        fit["walks"] = walks.into();
+        fit["seed"] = 1.into();
+        fit
+    };
+    let (long, quick) = (all_orders(1_000_000_000), all_orders(200));
+    file["fits"] = serde_json::json!([long]);
+    let long = dir.file("long.json", file.to_string());
+    file["fits"] = serde_json::json!([quick]);
+    let quick = dir.file("quick.json", file.to_string());
+    let out = dir.join("out");
+    let report = |fits: &Path| {
+        vec![
+            "report".to_string(),
+            p(&example()).to_string(),
+            "--sample".into(),
+            "frosted".into(),
+            "--fits".into(),
+            p(fits).to_string(),
+            "--out".into(),
+            p(&out).to_string(),
+        ]
+    };
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_stfit"))
+        .args(report(&long))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The first line of stderr, or nothing if none comes within two minutes: without a note
+    // the report would run its walks silently for far longer.
+    let stderr = child.stderr.take().unwrap();
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut line = String::new();
+        let _ = BufReader::new(stderr).read_line(&mut line);
+        let _ = send.send(line);
+    });
+    let line = receive.recv_timeout(std::time::Duration::from_secs(120));
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let line = line.expect("no line on stderr within 120 s");
+    assert!(
+        line.starts_with(
+            "note: the all-orders fits' own random walks, which give the orders >= 2 of the \
+             curves and of the model at the measured points, will take about "
+        ) && [" min", " h", " days"]
+            .iter()
+            .any(|unit| line.ends_with(&format!(
+                "{unit} (fits with fewer --walks make it shorter)\n"
+            ))),
+        "{line}"
+    );
+    let args = report(&quick);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let quick = stfit(&args);
+    assert_eq!(quick.code, Some(0), "{}", quick.stderr);
+    assert!(!quick.stderr.contains("note:"), "{}", quick.stderr);
+    assert!(out.join("frosted-fits.png").exists());
+}
+
+/// Samples whose names map to one file name are all reported: `a b` and `a_b` (the space
+/// becomes `_`) and `A_B` (the same name where file names ignore case), the example's three
+/// samples renamed. The later samples' figures get `-2` and `-3`, and fits.md links each
+/// sample's figures under its own name, which each figure's title gives.
+#[test]
+fn samples_that_map_to_one_file_name_are_all_reported() {
+    let dir = CaseDir::new("same-file-name");
+    let names = ["a b", "a_b", "A_B"];
+    let csv: String = std::fs::read_to_string(example())
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let l = l
+                .replacen("frosted,", "a b,", 1)
+                .replacen("etched,", "a_b,", 1)
+                .replacen("ground,", "A_B,", 1);
+            format!("{l}\n")
+        })
+        .collect();
+    let data = dir.file("collide.csv", csv);
+    let out = dir.join("out");
+    stfit_ok(&["report", p(&data), "--out", p(&out)]);
+    let stems = ["a_b", "a_b-2", "A_B-3"];
+    assert_eq!(files_in(&out), expected_files(&stems));
+    let md = read(&out, "fits.md");
+    for (sample, stem) in names.iter().zip(stems) {
+        let line =
+            format!("- {sample}: [fits]({stem}-fits.png), [residuals]({stem}-residuals.png)");
+        assert!(md.lines().any(|l| l == line), "{line} not in {md}");
+        assert_eq!(table_rows(&md, sample).len(), 4, "{sample}");
+        assert!(
+            read(&out, &format!("{stem}-fits.svg"))
+                .contains(&format!("{sample}: measured transmission")),
+            "{stem}-fits.svg"
+        );
+    }
+}

@@ -1,16 +1,19 @@
 """The long-run notes' estimates against the runs they announce: for `eval` with random walks,
-`albedo`, `export --to radiance` of a pane and `export --to mitsuba3` of an all-orders fit, the
-time the pilot run said on stderr and the wall time the run then took.
+`albedo`, `export --to radiance` of a pane, `export --to mitsuba3` of an all-orders fit and
+`report --fits` of that fit with its walks edited up, the time the pilot run said on stderr and
+the wall time the run then took (for the report, loading the data and drawing its one panel,
+under 0.1 s, included).
 
 Usage: python3 python/bench/long_run_estimates.py [SCALE]   (from the repository root, after
 `cargo build --release`; SCALE multiplies every run's walks, default 1: each run is announced
 as about 15 to 60 s on an idle 2-core machine; the all-orders fit of fits/example.csv that the
-last run exports takes a few seconds more, unannounced)
+last two runs export and draw takes a few seconds more, unannounced)
 
 The `eval` pairs are 200 incident directions (theta_i 0.2 to 89 degrees, phi_i 0) with 8
 outgoing directions each, 1,600 pairs, written to a temporary file.
 """
 
+import json
 import math
 import os
 import re
@@ -74,3 +77,16 @@ with tempfile.TemporaryDirectory() as tmp:
                     fit], check=True, stdout=subprocess.DEVNULL)
     run("export --to mitsuba3, an all-orders GGX fit of the example's frosted sample",
         [stfit, "export", fit, "--to", "mitsuba3", "--out", os.path.join(tmp, "scene.xml")])
+    # The same fit with its walks hand-edited up, as a user might: the report draws it with
+    # them (the stored rmse is then not reproduced, which the report warns about).
+    with open(fit) as f:
+        fits = json.load(f)
+    for entry in fits["fits"]:
+        entry["walks"] = int(3_000_000 * scale)
+    edited = os.path.join(tmp, "all-orders-edited.json")
+    with open(edited, "w") as f:
+        json.dump(fits, f)
+    run("report --fits, the same fit with its walks edited to "
+        f"{int(3_000_000 * scale):,}",
+        [stfit, "report", "fits/example.csv", "--sample", "frosted", "--fits", edited,
+         "--out", os.path.join(tmp, "report")])

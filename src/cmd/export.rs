@@ -5,7 +5,6 @@
 use std::path::PathBuf;
 
 use clap::{Args as ClapArgs, ValueEnum};
-use stfit_core::walk::{LONG_RUN_SECONDS, describe_seconds};
 use stfit_export::radiance::{DEFAULT_WALKS_PER_PATCH, LayerKind, QuadratureRule, RadianceOptions};
 use stfit_export::{
     BatchError, Destination, FitExport, Selection, Target, export_fits, radiance_walk_seconds,
@@ -14,7 +13,7 @@ use stfit_export::{
 use stfit_fit::{FitsFile, ModelKind};
 
 use super::{
-    CmdResult, Retired, failed, print_stdout, refuse_overwriting_input, usage, write_file,
+    CmdResult, Retired, failed, long_run, print_stdout, refuse_overwriting_input, usage, write_file,
 };
 
 /// Arguments of `stfit export`.
@@ -197,25 +196,21 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
     };
     let selected = select_fits(&file.fits, &selection, target, dest).map_err(batch_error)?;
     if target == Target::Radiance {
-        let seconds = radiance_walk_seconds(&selected, &radiance);
-        if seconds > LONG_RUN_SECONDS {
-            eprintln!(
-                "note: the random walks of this export ({} per Klems patch) will take about {} \
-                 (fewer --walks make it shorter)",
-                radiance.walks_per_patch,
-                describe_seconds(seconds)
-            );
-        }
+        long_run::note_if_long(
+            radiance_walk_seconds(&selected, &radiance),
+            &format!(
+                "the random walks of this export ({} per Klems patch)",
+                radiance.walks_per_patch
+            ),
+            "fewer --walks make it shorter",
+        );
     } else {
-        let seconds = reference_walk_seconds(&selected);
-        if seconds > LONG_RUN_SECONDS {
-            eprintln!(
-                "note: the all-orders fits' own random walks, which give their values over the \
-                 sphere of directions the translation is measured on, will take about {} \
-                 (fits with fewer --walks make it shorter)",
-                describe_seconds(seconds)
-            );
-        }
+        long_run::note_if_long(
+            reference_walk_seconds(&selected),
+            "the all-orders fits' own random walks, which give their values over the sphere of \
+             directions the translation is measured on,",
+            "fits with fewer --walks make it shorter",
+        );
     }
     let batch =
         export_fits(&file.fits, &selection, target, &radiance, dest).map_err(batch_error)?;

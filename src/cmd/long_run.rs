@@ -1,6 +1,7 @@
 //! Long random-walk runs made visible: a pilot run estimates the cost before the walks start
 //! (`stfit_core::walk::WalkCost`), a note on stderr announces a run longer than
-//! `LONG_RUN_SECONDS`, and a progress bar is drawn when stderr is a terminal.
+//! `LONG_RUN_SECONDS` ([`announce`], or [`note_if_long`] for a command that states its walks
+//! in its own words), and a progress bar is drawn when stderr is a terminal.
 
 use std::io::IsTerminal;
 
@@ -40,6 +41,18 @@ pub fn announce(cost: WalkCost, walks: u64, bar_walks: u64) -> Option<ProgressBa
         }
         bar
     })
+}
+
+/// Announces on stderr, when the `seconds` estimated for it exceed [`LONG_RUN_SECONDS`], a run
+/// of random walks that a command is about to start: `note: WHAT will take about TIME
+/// (SHORTER)`, `what` naming the walks and `shorter` what makes them shorter.
+pub fn note_if_long(seconds: f64, what: &str, shorter: &str) {
+    if seconds > LONG_RUN_SECONDS {
+        eprintln!(
+            "note: {what} will take about {} ({shorter})",
+            describe_seconds(seconds)
+        );
+    }
 }
 
 /// A mean path length as said in the note: one decimal below 10 (`1.4`), whole numbers above.

@@ -9,7 +9,9 @@ use stfit_fit::{Dataset, FitResult, FitsFile, all_models};
 use stfit_report::{ReportOptions, YScale};
 
 use super::fit::{FitOptionArgs, ModelArg, fit_with_progress, selected};
-use super::{CmdError, CmdResult, Retired, failed, print_stdout, refuse_overwriting_input, usage};
+use super::{
+    CmdError, CmdResult, Retired, failed, long_run, print_stdout, refuse_overwriting_input, usage,
+};
 
 /// Arguments of `stfit report`.
 #[derive(Debug, Clone, Args)]
@@ -84,6 +86,7 @@ pub fn run(args: ReportArgs, given: &[String]) -> CmdResult {
         stfit_fit::load_paths(&args.data).map_err(failed)?,
         args.sample.as_deref(),
     )?;
+    let stored = matches!(source, Source::Stored(_));
     let (fits, whose) = match source {
         Source::Stored(path) => (
             stored_fits(path, &data, args.sample.is_some())?,
@@ -99,6 +102,18 @@ pub fn run(args: ReportArgs, given: &[String]) -> CmdResult {
             data.source.display().to_string(),
         ),
     };
+    // The walks of the all-orders fits run again to draw them: announced when long (a
+    // hand-edited `walks` in stored fits can make hours of them).
+    long_run::note_if_long(
+        stfit_report::walk_seconds(&data, &fits, &opts),
+        "the all-orders fits' own random walks, which give the orders >= 2 of the curves and \
+         of the model at the measured points,",
+        if stored {
+            "fits with fewer --walks make it shorter"
+        } else {
+            "fewer --walks make it shorter"
+        },
+    );
     let report = stfit_report::render_report(&data, &fits, &opts)
         .map_err(|e| failed(format!("{whose}: {e}")))?;
     for w in &report.warnings {

@@ -334,25 +334,8 @@ impl Model {
     /// point, the BSDF of a general one), in one batch as [`Model::predict`].
     /// Points whose angles are outside the data format's ranges are refused.
     pub fn predict_points(&self, points: &[Measurement]) -> Result<Vec<f64>, FitError> {
-        self.check()?;
-        for (index, p) in points.iter().enumerate() {
-            p.check_angles().map_err(|reason| FitError::InvalidData {
-                sample: "predicted points".into(),
-                index,
-                reason,
-            })?;
-        }
-        let pairs: Vec<_> = points.iter().map(Measurement::directions).collect();
-        let quantity = points.iter().map(Measurement::quantity).collect();
-        let forward = Forward::new(
-            &pairs,
-            quantity,
-            self.masking,
-            self.orders,
-            self.walks.unwrap_or(0),
-            self.seed.unwrap_or(0),
-        )?;
-        let mut out = Vec::with_capacity(pairs.len());
+        let forward = self.forward(points)?;
+        let mut out = Vec::with_capacity(points.len());
         forward.unit_model(&self.ndf()?, self.eta, &mut out)?;
         for (k, v) in out.iter_mut().enumerate() {
             let unit = *v;
@@ -367,5 +350,36 @@ impl Model {
             }
         }
         Ok(out)
+    }
+
+    /// Estimated wall time, in seconds, of the random walks of [`Model::predict_points`] at
+    /// `points` on rayon's current pool, for a note before a long run: a pilot run of the same
+    /// walks ([`Forward::walk_seconds`]: random numbers of its own, at most a sixteenth of the
+    /// run's work); 0 for single scattering. Refuses what [`Model::predict_points`] refuses.
+    pub fn walk_seconds(&self, points: &[Measurement]) -> Result<f64, FitError> {
+        Ok(self.forward(points)?.walk_seconds(&self.ndf()?, self.eta)?)
+    }
+
+    /// The forward model of [`Model::predict_points`] at `points`, after checking the model
+    /// and the points' angles.
+    fn forward(&self, points: &[Measurement]) -> Result<Forward, FitError> {
+        self.check()?;
+        for (index, p) in points.iter().enumerate() {
+            p.check_angles().map_err(|reason| FitError::InvalidData {
+                sample: "predicted points".into(),
+                index,
+                reason,
+            })?;
+        }
+        let pairs: Vec<_> = points.iter().map(Measurement::directions).collect();
+        let quantity = points.iter().map(Measurement::quantity).collect();
+        Forward::new(
+            &pairs,
+            quantity,
+            self.masking,
+            self.orders,
+            self.walks.unwrap_or(0),
+            self.seed.unwrap_or(0),
+        )
     }
 }

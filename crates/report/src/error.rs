@@ -44,14 +44,6 @@ pub enum ReportError {
         model: String,
         reason: String,
     },
-    /// Two samples map to the same file name.
-    #[error(
-        "samples `{}` and `{}` would be written to the same file `{}`",
-        stfit_fit::short(.0),
-        stfit_fit::short(.1),
-        stfit_fit::short(.2)
-    )]
-    FileNameClash(String, String, String),
     /// The embedded font could not be registered with plotters.
     #[error("the embedded DejaVu Sans font could not be registered")]
     Font,

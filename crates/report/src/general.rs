@@ -109,49 +109,7 @@ impl<'a> GeneralView<'a> {
         y: YScale,
         not_drawn: &mut Vec<NotDrawn<'a>>,
     ) -> Result<Self, ReportError> {
-        if sample.points.is_empty() {
-            return Err(ReportError::EmptySample(sample.name.clone()));
-        }
-        let mut incidences: Vec<Incidence> = Vec::new();
-        // The measured points of each incidence, in the sample's own order.
-        let mut members: Vec<Vec<&Measurement>> = Vec::new();
-        for p in &sample.points {
-            let Some(((theta_i_deg, phi_i_deg), (theta_o_deg, phi_o_deg))) = p.spherical_angles()
-            else {
-                continue;
-            };
-            let k = match incidences
-                .iter()
-                .position(|g| g.theta_i_deg == theta_i_deg && g.phi_i_deg == phi_i_deg)
-            {
-                Some(k) => k,
-                None => {
-                    incidences.push(Incidence {
-                        theta_i_deg,
-                        phi_i_deg,
-                        points: Vec::new(),
-                    });
-                    members.push(Vec::new());
-                    incidences.len() - 1
-                }
-            };
-            incidences[k].points.push((
-                theta_o_deg,
-                reduced_azimuth_deg(phi_o_deg) - reduced_azimuth_deg(phi_i_deg),
-                p.value,
-                p.weight > 0.0,
-            ));
-            members[k].push(p);
-        }
-        let mut order: Vec<usize> = (0..incidences.len()).collect();
-        order.sort_by(|&a, &b| {
-            let (ga, gb) = (&incidences[a], &incidences[b]);
-            ga.theta_i_deg
-                .total_cmp(&gb.theta_i_deg)
-                .then(ga.phi_i_deg.total_cmp(&gb.phi_i_deg))
-        });
-        let incidences: Vec<Incidence> = order.iter().map(|&k| incidences[k].clone()).collect();
-        let members: Vec<Vec<&Measurement>> = order.iter().map(|&k| members[k].clone()).collect();
+        let (incidences, members) = layout(sample)?;
         let mut panels: [Option<GeneralPanel<'a>>; 4] = Default::default();
         for (panel, fit) in panels.iter_mut().zip(fits) {
             if let Some(fit) = fit {
@@ -164,6 +122,101 @@ impl<'a> GeneralView<'a> {
             panels,
         })
     }
+
+    /// Estimated wall time, in seconds, of the random walks that [`GeneralView::new`] runs for
+    /// `fits` ([`Model::walk_seconds`](stfit_fit::Model::walk_seconds) at each panel's points,
+    /// summed): 0 for single-scattering fits; a fit or sample that cannot be drawn counts 0.
+    pub(crate) fn walk_seconds(sample: &Sample, fits: [Option<&FitResult>; 4]) -> f64 {
+        let Ok((incidences, members)) = layout(sample) else {
+            return 0.0;
+        };
+        let points = panel_points(&incidences, &members);
+        fits.iter()
+            .flatten()
+            .map(|f| f.model.walk_seconds(&points).unwrap_or(0.0))
+            .sum()
+    }
+}
+
+/// The incident directions of a general sample and, per direction (same order), its measured
+/// points in the sample's own order.
+type Layout<'a> = (Vec<Incidence>, Vec<Vec<&'a Measurement>>);
+
+/// A general sample's points grouped by incident direction (ascending `theta_i`, then
+/// `phi_i`); an empty sample is refused.
+fn layout(sample: &Sample) -> Result<Layout<'_>, ReportError> {
+    if sample.points.is_empty() {
+        return Err(ReportError::EmptySample(sample.name.clone()));
+    }
+    let mut incidences: Vec<Incidence> = Vec::new();
+    // The measured points of each incidence, in the sample's own order.
+    let mut members: Vec<Vec<&Measurement>> = Vec::new();
+    for p in &sample.points {
+        let Some(((theta_i_deg, phi_i_deg), (theta_o_deg, phi_o_deg))) = p.spherical_angles()
+        else {
+            continue;
+        };
+        let k = match incidences
+            .iter()
+            .position(|g| g.theta_i_deg == theta_i_deg && g.phi_i_deg == phi_i_deg)
+        {
+            Some(k) => k,
+            None => {
+                incidences.push(Incidence {
+                    theta_i_deg,
+                    phi_i_deg,
+                    points: Vec::new(),
+                });
+                members.push(Vec::new());
+                incidences.len() - 1
+            }
+        };
+        incidences[k].points.push((
+            theta_o_deg,
+            reduced_azimuth_deg(phi_o_deg) - reduced_azimuth_deg(phi_i_deg),
+            p.value,
+            p.weight > 0.0,
+        ));
+        members[k].push(p);
+    }
+    let mut order: Vec<usize> = (0..incidences.len()).collect();
+    order.sort_by(|&a, &b| {
+        let (ga, gb) = (&incidences[a], &incidences[b]);
+        ga.theta_i_deg
+            .total_cmp(&gb.theta_i_deg)
+            .then(ga.phi_i_deg.total_cmp(&gb.phi_i_deg))
+    });
+    let incidences: Vec<Incidence> = order.iter().map(|&k| incidences[k].clone()).collect();
+    let members: Vec<Vec<&Measurement>> = order.iter().map(|&k| members[k].clone()).collect();
+    Ok((incidences, members))
+}
+
+/// The signed polar angles `x` of the points of a model curve along the plane of incidence,
+/// every [`CURVE_STEP_DEG`] across (-180, 180), grazing directions (`|x|` = 90) left out.
+fn curve_xs() -> Vec<f64> {
+    (0..)
+        .map(|k| -180.0 + CURVE_STEP_DEG * (k as f64 + 0.5))
+        .take_while(|&x| x < 180.0)
+        .filter(|x: &f64| x.abs() != 90.0)
+        .collect()
+}
+
+/// The points at which a panel evaluates its model, in one batch (for an all-orders model,
+/// one set of walks per incident direction): the curve of every incidence ([`curve_xs`]),
+/// then the measured points of every incidence.
+fn panel_points(incidences: &[Incidence], members: &[Vec<&Measurement>]) -> Vec<Measurement> {
+    let xs = curve_xs();
+    let mut points = Vec::new();
+    for g in incidences {
+        points.extend(xs.iter().map(|&x| {
+            let phi = g.phi_i_deg + if x >= 0.0 { 180.0 } else { 0.0 };
+            Measurement::spherical((g.theta_i_deg, g.phi_i_deg), (x.abs(), phi), 0.0, 1.0)
+        }));
+    }
+    for m in members {
+        points.extend(m.iter().map(|p| **p));
+    }
+    points
 }
 
 fn panel_of<'a>(
@@ -178,24 +231,11 @@ fn panel_of<'a>(
         reason: e.to_string(),
     };
     let ndf = fit.model.ndf().map_err(invalid)?;
-    // Every curve point and every measured point in one batch (one set of walks per incident
-    // direction for an all-orders model).
-    let xs: Vec<f64> = (0..)
-        .map(|k| -180.0 + CURVE_STEP_DEG * (k as f64 + 0.5))
-        .take_while(|&x| x < 180.0)
-        .filter(|x: &f64| x.abs() != 90.0)
-        .collect();
-    let mut points = Vec::new();
-    for g in incidences {
-        points.extend(xs.iter().map(|&x| {
-            let phi = g.phi_i_deg + if x >= 0.0 { 180.0 } else { 0.0 };
-            Measurement::spherical((g.theta_i_deg, g.phi_i_deg), (x.abs(), phi), 0.0, 1.0)
-        }));
-    }
-    for m in members {
-        points.extend(m.iter().map(|p| **p));
-    }
-    let values = fit.model.predict_points(&points).map_err(invalid)?;
+    let xs = curve_xs();
+    let values = fit
+        .model
+        .predict_points(&panel_points(incidences, members))
+        .map_err(invalid)?;
     let (curve_values, point_values) = values.split_at(xs.len() * incidences.len());
     let curves = curve_values
         .chunks(xs.len())

@@ -22,6 +22,10 @@
 //! - `ndf.{svg,png}`: the fitted `D(theta_m)` on a log scale, one panel per sample;
 //! - `fits.md`: every fit as a table.
 //!
+//! `<sample>` is the sample's [`file_stem`]; samples whose stems would name one file (ignoring
+//! case) get `-2`, `-3`, ... appended in data order ([`file_stems`]), and `fits.md` links each
+//! sample's figures under its own name.
+//!
 //! Text uses DejaVu Sans embedded from the `dejavu` crate; no system fonts or libraries are
 //! needed.
 
@@ -33,7 +37,7 @@ mod style;
 mod table;
 mod view;
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use stfit_fit::{Dataset, FitResult, Sample};
@@ -120,7 +124,7 @@ pub fn model_description(m: &stfit_fit::Model) -> String {
 }
 
 /// Characters of a sample's name kept in its file names (as `export` does), so that names stay
-/// within every file system's limit (255 bytes).
+/// within every file system's limit (255 bytes), a suffix of [`file_stems`] included.
 pub const MAX_STEM_CHARS: usize = 100;
 
 /// A file-name stem for a sample: its first [`MAX_STEM_CHARS`] characters, ASCII letters,
@@ -140,6 +144,34 @@ pub fn file_stem(sample: &str) -> String {
             }
         })
         .collect()
+}
+
+/// The file-name stems of samples called `names`, in their order: each its own
+/// [`file_stem`], except that a stem already taken by an earlier sample, ignoring ASCII case
+/// (one file where file names ignore case, as on macOS and Windows), gets the first of `-2`,
+/// `-3`, ... appended that gives a stem no earlier sample took and no sample has as its own
+/// stem, both ignoring case. The stems are distinct ignoring case, and every sample whose own
+/// stem no earlier sample has keeps it.
+pub fn file_stems<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<String> {
+    let own: Vec<String> = names.into_iter().map(file_stem).collect();
+    let reserved: HashSet<String> = own.iter().map(|s| s.to_ascii_lowercase()).collect();
+    let mut taken: HashSet<String> = HashSet::new();
+    let mut stems = Vec::with_capacity(own.len());
+    for stem in own {
+        if taken.insert(stem.to_ascii_lowercase()) {
+            stems.push(stem);
+            continue;
+        }
+        for k in 2u64.. {
+            let candidate = format!("{stem}-{k}");
+            let key = candidate.to_ascii_lowercase();
+            if !reserved.contains(&key) && taken.insert(key) {
+                stems.push(candidate);
+                break;
+            }
+        }
+    }
+    stems
 }
 
 /// Relative difference above which a stored rmse counts as not reproduced.
@@ -225,6 +257,27 @@ fn push_figure(
     Ok(())
 }
 
+/// Estimated wall time, in seconds, of the random walks that [`render_report`] runs to draw
+/// `fits` against `data` with `opts`, for a note before a long run: the orders >= 2 term of
+/// every all-orders fit at the points of its panel, curves and measured points alike (one set
+/// of `walks` walks per incident direction, [`stfit_fit::Model::walk_seconds`]: a pilot run of
+/// those walks, at most a sixteenth of their work), summed over the panels of every sample.
+/// 0 without all-orders fits; fits that [`render_report`] refuses, or cannot evaluate, count 0.
+pub fn walk_seconds(data: &Dataset, fits: &[FitResult], opts: &ReportOptions) -> f64 {
+    let Ok(slots) = assign_fits(data, fits) else {
+        return 0.0;
+    };
+    data.samples
+        .iter()
+        .zip(slots)
+        .map(|(sample, fits)| {
+            let (ip, general_part) = split_by_form(sample);
+            ip.map_or(0.0, |s| SampleView::walk_seconds(&s, fits, opts))
+                + general_part.map_or(0.0, |s| GeneralView::walk_seconds(&s, fits))
+        })
+        .sum()
+}
+
 /// Draws the report of `fits` (any subset of the four panels per sample; panels without a fit
 /// show the data alone) against `data`. Every fit must name a sample of `data`, have been made
 /// on its number of points of weight > 0, and be the only one of its model for that sample.
@@ -238,17 +291,7 @@ pub fn render_report(
         return Err(ReportError::NoSamples);
     }
     let slots = assign_fits(data, fits)?;
-
-    let mut stems: HashMap<String, &str> = HashMap::new();
-    for s in &data.samples {
-        if let Some(other) = stems.insert(file_stem(&s.name), &s.name) {
-            return Err(ReportError::FileNameClash(
-                other.to_string(),
-                s.name.clone(),
-                file_stem(&s.name),
-            ));
-        }
-    }
+    let stems = file_stems(data.samples.iter().map(|s| s.name.as_str()));
 
     // In-plane samples get the Walter-form figures, general samples theirs; a sample that
     // mixes both kinds of point (files of both forms merged by name) gets both, each with its
@@ -337,8 +380,7 @@ pub fn render_report(
     let mut files = Vec::new();
     let mut figure_names: Vec<(String, Vec<(&'static str, String)>)> = Vec::new();
     let mut ndfs: Vec<(String, [Option<stfit_core::ndf::AnyNdf>; 4])> = Vec::new();
-    for sample in &data.samples {
-        let stem = file_stem(&sample.name);
+    for (sample, stem) in data.samples.iter().zip(&stems) {
         let mut names = Vec::new();
         let mut ndf = None;
         if let Some(view) = in_plane.iter().find(|v| v.name == sample.name) {

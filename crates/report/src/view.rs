@@ -3,7 +3,7 @@
 
 use stfit_core::Vec3;
 use stfit_core::ndf::{AnyNdf, Ndf};
-use stfit_fit::{FitResult, ModelKind, Sample};
+use stfit_fit::{FitResult, Measurement, ModelKind, Sample};
 
 use crate::{ReportError, ReportOptions, YScale};
 
@@ -141,10 +141,50 @@ fn angle_groups(sample: &Sample, y: YScale) -> Vec<AngleGroup> {
     groups
 }
 
+/// A sample's points grouped by incidence angle ([`angle_groups`]) and the range of `theta_o`
+/// they cover, in degrees; an empty sample is refused.
+fn layout(sample: &Sample, y: YScale) -> Result<(Vec<AngleGroup>, (f64, f64)), ReportError> {
+    if sample.points.is_empty() {
+        return Err(ReportError::EmptySample(sample.name.clone()));
+    }
+    let groups = angle_groups(sample, y);
+    let range = groups
+        .iter()
+        .flat_map(|g| g.points.iter().map(|p| p.0))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+            (lo.min(x), hi.max(x))
+        });
+    Ok((groups, range))
+}
+
+/// The `theta_o` of a curve's point `k` of [`CURVE_POINTS`], evenly across `(x0, x1)`.
+fn curve_x((x0, x1): (f64, f64), k: usize) -> f64 {
+    x0 + (x1 - x0) * k as f64 / (CURVE_POINTS - 1) as f64
+}
+
+/// The points at which a panel evaluates its model, in one batch (for an all-orders model,
+/// one set of walks per incidence angle): per [`AngleGroup`], [`CURVE_POINTS`] points of its
+/// curve evenly across `(x0, x1)`, then its measured points.
+fn panel_points(groups: &[AngleGroup], range: (f64, f64)) -> Vec<Measurement> {
+    let mut points = Vec::new();
+    for g in groups {
+        points.extend(
+            (0..CURVE_POINTS)
+                .map(|k| Measurement::in_plane(g.theta_i_deg, curve_x(range, k), 0.0, 1.0)),
+        );
+        points.extend(
+            g.points
+                .iter()
+                .map(|&(x, _)| Measurement::in_plane(g.theta_i_deg, x, 0.0, 1.0)),
+        );
+    }
+    points
+}
+
 fn panel_view<'a>(
     fit: &'a FitResult,
     groups: &[AngleGroup],
-    (x0, x1): (f64, f64),
+    range: (f64, f64),
     opts: &ReportOptions,
 ) -> Result<PanelView<'a>, ReportError> {
     let invalid = |e: stfit_fit::FitError| ReportError::InvalidFit {
@@ -153,17 +193,8 @@ fn panel_view<'a>(
         reason: e.to_string(),
     };
     let ndf = fit.model.ndf().map_err(invalid)?;
-    // Every curve and measured point of the panel in one batch: the model's walks (all
-    // orders) run once per incidence angle.
-    let mut angles = Vec::new();
-    for g in groups {
-        angles.extend((0..CURVE_POINTS).map(|k| {
-            let x = x0 + (x1 - x0) * k as f64 / (CURVE_POINTS - 1) as f64;
-            (g.theta_i_deg, x)
-        }));
-        angles.extend(g.points.iter().map(|&(x, _)| (g.theta_i_deg, x)));
-    }
-    let l = fit.model.predict(&angles).map_err(invalid)?;
+    let points = panel_points(groups, range);
+    let l = fit.model.predict_points(&points).map_err(invalid)?;
     let y = opts.y_scale;
     let mut curves = Vec::with_capacity(groups.len());
     let mut residuals = Vec::with_capacity(groups.len());
@@ -171,7 +202,7 @@ fn panel_view<'a>(
     let mut at = 0;
     for g in groups {
         let curve = (0..CURVE_POINTS)
-            .map(|k| (angles[at + k].1, y.apply(l[at + k])))
+            .map(|k| (curve_x(range, k), y.apply(l[at + k])))
             .collect();
         at += CURVE_POINTS;
         let mut res = Vec::with_capacity(g.points.len());
@@ -254,28 +285,37 @@ impl<'a> SampleView<'a> {
         opts: &ReportOptions,
         not_drawn: &mut Vec<NotDrawn<'a>>,
     ) -> Result<Self, ReportError> {
-        if sample.points.is_empty() {
-            return Err(ReportError::EmptySample(sample.name.clone()));
-        }
-        let groups = angle_groups(sample, opts.y_scale);
-        let (x0, x1) = groups
-            .iter()
-            .flat_map(|g| g.points.iter().map(|p| p.0))
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
-                (lo.min(x), hi.max(x))
-            });
+        let (groups, range) = layout(sample, opts.y_scale)?;
         let mut panels: [Option<PanelView<'a>>; 4] = Default::default();
         for (panel, fit) in panels.iter_mut().zip(fits) {
             if let Some(fit) = fit {
-                *panel = NotDrawn::catch(panel_view(fit, &groups, (x0, x1), opts), fit, not_drawn)?;
+                *panel = NotDrawn::catch(panel_view(fit, &groups, range, opts), fit, not_drawn)?;
             }
         }
         Ok(Self {
             name: &sample.name,
             groups,
-            theta_o_range: (x0, x1),
+            theta_o_range: range,
             panels,
         })
+    }
+
+    /// Estimated wall time, in seconds, of the random walks that [`SampleView::new`] runs for
+    /// `fits` ([`Model::walk_seconds`](stfit_fit::Model::walk_seconds) at each panel's points,
+    /// summed): 0 for single-scattering fits; a fit or sample that cannot be drawn counts 0.
+    pub(crate) fn walk_seconds(
+        sample: &Sample,
+        fits: [Option<&FitResult>; 4],
+        opts: &ReportOptions,
+    ) -> f64 {
+        let Ok((groups, range)) = layout(sample, opts.y_scale) else {
+            return 0.0;
+        };
+        let points = panel_points(&groups, range);
+        fits.iter()
+            .flatten()
+            .map(|f| f.model.walk_seconds(&points).unwrap_or(0.0))
+            .sum()
     }
 
     /// Whether any point has weight 0 (drawn hollow, not fitted).

@@ -6,8 +6,8 @@ use stfit_fit::{
     Dataset, FitResult, FitsFile, Gamma, Loss, Measurement, Model, ModelKind, Optimizer, Sample,
 };
 use stfit_report::{
-    ModelSlot, ReportError, ReportOptions, YScale, clip_below, file_stem, fits_markdown, fmt_sig,
-    render_report,
+    ModelSlot, ReportError, ReportOptions, YScale, clip_below, file_stem, file_stems,
+    fits_markdown, fmt_sig, render_report, walk_seconds,
 };
 
 const ANGLES: [f64; 4] = [0.0, 30.0, 60.0, 80.0];
@@ -502,23 +502,89 @@ fn bad_fits_are_typed_errors() {
         render_report(&empty, &[], &opts),
         Err(ReportError::NoSamples)
     ));
-    let clash = Dataset {
+}
+
+/// Samples whose names map to one file name (`a b` and `a_b`; `Frosted` and `frosted`, one
+/// file where names ignore case) are all reported: the later one's files get a suffix, and
+/// fits.md links each sample's figures under the sample's own name.
+#[test]
+fn samples_of_one_file_name_get_files_of_their_own() {
+    let data = dataset();
+    let named = |names: [&str; 4]| Dataset {
         source: "x".into(),
-        samples: vec![
-            Sample {
-                name: "a b".into(),
-                ..data.samples[0].clone()
-            },
-            Sample {
-                name: "a_b".into(),
-                ..data.samples[1].clone()
-            },
-        ],
+        samples: names
+            .iter()
+            .enumerate()
+            .map(|(k, &name)| Sample {
+                name: name.into(),
+                ..data.samples[k % 2].clone()
+            })
+            .collect(),
     };
-    assert!(matches!(
-        render_report(&clash, &[], &opts),
-        Err(ReportError::FileNameClash(..))
-    ));
+    let clash = named(["a b", "a_b", "Frosted", "frosted"]);
+    let report = render_report(&clash, &[], &ReportOptions::default()).unwrap();
+    for stem in ["a_b", "a_b-2", "Frosted", "frosted-2"] {
+        for kind in ["fits", "residuals"] {
+            for ext in ["svg", "png"] {
+                let name = format!("{stem}-{kind}.{ext}");
+                assert!(report.file(&name).is_some(), "no {name}");
+            }
+        }
+    }
+    assert_eq!(report.files.len(), 4 * 4 + 4 + 1);
+    let md = svg(&report, "fits.md");
+    for (sample, stem) in [
+        ("a b", "a_b"),
+        ("a_b", "a_b-2"),
+        ("Frosted", "Frosted"),
+        ("frosted", "frosted-2"),
+    ] {
+        let line =
+            format!("- {sample}: [fits]({stem}-fits.png), [residuals]({stem}-residuals.png)");
+        assert!(md.lines().any(|l| l == line), "{line} not in {md}");
+    }
+    // Each figure is titled with its own sample's name.
+    for (file, own, other) in [
+        ("a_b-fits.svg", "a b", "a_b"),
+        ("a_b-2-fits.svg", "a_b", "a b"),
+        ("frosted-2-fits.svg", "frosted", "Frosted"),
+    ] {
+        let text = svg(&report, file);
+        assert!(
+            text.contains(&format!("{own}: measured transmission"))
+                && !text.contains(&format!("{other}: measured transmission")),
+            "{file}"
+        );
+    }
+}
+
+/// The stems of `file_stems`: a sample's own stem unless an earlier sample took it (in any
+/// case), else the first free `-2`, `-3`, ... that is no sample's own stem either.
+#[test]
+fn file_stems_are_distinct_ignoring_case() {
+    assert_eq!(file_stems(["a", "b"]), ["a", "b"]);
+    assert_eq!(file_stems(["a b", "a_b", "a/b"]), ["a_b", "a_b-2", "a_b-3"]);
+    assert_eq!(
+        file_stems(["Frosted", "frosted", "FROSTED"]),
+        ["Frosted", "frosted-2", "FROSTED-3"]
+    );
+    // A sample literally named like a suffix keeps its name; the suffix skips it, in any case
+    // and wherever that sample comes.
+    assert_eq!(file_stems(["a", "A", "a-2"]), ["a", "A-3", "a-2"]);
+    assert_eq!(file_stems(["a-2", "a", "a"]), ["a-2", "a", "a-3"]);
+    assert_eq!(
+        file_stems(["a", "a", "A-2", "a-3"]),
+        ["a", "a-4", "A-2", "a-3"]
+    );
+    // A suffix already given is not given twice.
+    assert_eq!(file_stems(["x", "x", "x"]), ["x", "x-2", "x-3"]);
+    // The unnamed sample's stem is `sample`, which a sample of that name then shares.
+    assert_eq!(file_stems(["", "sample"]), ["sample", "sample-2"]);
+    let stems = file_stems(["a b", "A_B", "a_b-2", "a.b", "a?b", "A?B"]);
+    let mut lower: Vec<String> = stems.iter().map(|s| s.to_ascii_lowercase()).collect();
+    lower.sort();
+    lower.dedup();
+    assert_eq!(lower.len(), stems.len(), "{stems:?}");
 }
 
 #[test]
@@ -790,6 +856,41 @@ fn figure_titles_name_the_orders_of_the_fits() {
     let single = dataset();
     let report = render_report(&single, &fits(&single), &ReportOptions::default()).unwrap();
     assert!(svg(&report, "overview.svg").contains("single-scattering fits"));
+}
+
+/// The time the report's walks will take is estimated from those walks: nothing for
+/// single-scattering fits, some time for an all-orders fit, for a hand-edited 1e9 walks per
+/// incident direction far beyond the 10 s that a note announces, and for fits that the report
+/// refuses nothing.
+#[test]
+fn the_walks_of_all_orders_fits_are_timed_before_they_run() {
+    let opts = ReportOptions::default();
+    let single = dataset();
+    assert_eq!(walk_seconds(&single, &fits(&single), &opts), 0.0);
+    let truth = params(ModelKind::Ggx, 0.3, 0.0, 1.0);
+    let sample = synth_sample("all orders", truth, 0.02);
+    let all = |walks| Model {
+        masking: stfit_fit::Masking::Correlated,
+        orders: stfit_fit::ScatteringOrders::All,
+        walks: Some(walks),
+        seed: Some(1),
+        ..truth
+    };
+    let data = Dataset {
+        source: PathBuf::from("synthetic"),
+        samples: vec![sample.clone()],
+    };
+    let few = fit(&sample, all(2000), false);
+    let seconds = walk_seconds(&data, std::slice::from_ref(&few), &opts);
+    assert!(seconds > 0.0 && seconds < 10.0, "{seconds}");
+    // Hand-edited, as in a fits file: the stored rmse is that of 2000 walks.
+    let mut many = few.clone();
+    many.model.walks = Some(1_000_000_000);
+    let seconds = walk_seconds(&data, std::slice::from_ref(&many), &opts);
+    assert!(seconds > 100.0, "{seconds}");
+    let mut foreign = many;
+    foreign.n_points += 1;
+    assert_eq!(walk_seconds(&data, &[foreign], &opts), 0.0);
 }
 
 /// A sample that mixes in-plane and general points (files of both forms merged by name, one
