@@ -62,6 +62,17 @@ pub enum ReportError {
     },
 }
 
+impl ReportError {
+    /// [`ReportError::InvalidFit`] of `fit`, whose model could not be evaluated for `e`.
+    pub(crate) fn invalid_fit(fit: &stfit_fit::FitResult, e: stfit_fit::FitError) -> Self {
+        Self::InvalidFit {
+            sample: fit.sample.clone(),
+            model: crate::view::ModelSlot::of(fit).title().to_string(),
+            reason: e.to_string(),
+        }
+    }
+}
+
 impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for ReportError {
     fn from(e: DrawingAreaErrorKind<E>) -> Self {
         Self::Draw(e.to_string())

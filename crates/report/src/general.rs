@@ -225,11 +225,7 @@ fn panel_of<'a>(
     members: &[Vec<&Measurement>],
     y: YScale,
 ) -> Result<GeneralPanel<'a>, ReportError> {
-    let invalid = |e: stfit_fit::FitError| ReportError::InvalidFit {
-        sample: fit.sample.clone(),
-        model: ModelSlot::of(fit).title().to_string(),
-        reason: e.to_string(),
-    };
+    let invalid = |e| ReportError::invalid_fit(fit, e);
     let ndf = fit.model.ndf().map_err(invalid)?;
     let xs = curve_xs();
     let values = fit

@@ -187,11 +187,7 @@ fn panel_view<'a>(
     range: (f64, f64),
     opts: &ReportOptions,
 ) -> Result<PanelView<'a>, ReportError> {
-    let invalid = |e: stfit_fit::FitError| ReportError::InvalidFit {
-        sample: fit.sample.clone(),
-        model: ModelSlot::of(fit).title().to_string(),
-        reason: e.to_string(),
-    };
+    let invalid = |e| ReportError::invalid_fit(fit, e);
     let ndf = fit.model.ndf().map_err(invalid)?;
     let points = panel_points(groups, range);
     let l = fit.model.predict_points(&points).map_err(invalid)?;
