@@ -287,37 +287,46 @@ impl FitResult {
             return Err("multiple_term must be null for orders single".to_owned());
         }
         for w in &self.warnings {
-            let parameter = match w {
-                FitWarning::AtBound { parameter, .. }
-                | FitWarning::NotDifferentiable { parameter } => parameter,
-                FitWarning::SingularCurvature | FitWarning::FewInformativePoints { .. } => continue,
-                FitWarning::TotalReflectionOnset { onset, share } => {
-                    if self.eta_fixed {
-                        return Err("a total-reflection-onset warning is one of a fitted eta \
-                                    (eta_fixed false)"
-                            .to_owned());
-                    }
-                    if !(onset.is_finite() && *onset >= 1.0) {
-                        return Err(format!(
-                            "a total-reflection-onset warning's onset must be a finite index \
-                             >= 1, got {}",
-                            show(*onset)
-                        ));
-                    }
-                    if !(*share > 0.0 && *share <= 1.0) {
-                        return Err(format!(
-                            "a total-reflection-onset warning's share must be in (0, 1], got {}",
-                            show(*share)
-                        ));
-                    }
-                    continue;
+            w.check(self.eta_fixed)?;
+        }
+        Ok(())
+    }
+}
+
+impl FitWarning {
+    /// `Ok` for a warning that a fit with eta held (`eta_fixed`) or fitted can carry, else
+    /// what is wrong: a `parameter` that is not a searched shape parameter, or a
+    /// total-reflection onset of a held eta, or with an onset or share out of its range.
+    fn check(&self, eta_fixed: bool) -> Result<(), String> {
+        match self {
+            Self::AtBound { parameter, .. } | Self::NotDifferentiable { parameter } => {
+                if !WARNED_PARAMETERS.contains(&parameter.as_str()) {
+                    return Err(format!(
+                        "a warning's parameter must be alpha, gamma or eta, got '{}'",
+                        crate::data::short(parameter)
+                    ));
                 }
-            };
-            if !WARNED_PARAMETERS.contains(&parameter.as_str()) {
-                return Err(format!(
-                    "a warning's parameter must be alpha, gamma or eta, got '{}'",
-                    crate::data::short(parameter)
-                ));
+            }
+            Self::SingularCurvature | Self::FewInformativePoints { .. } => {}
+            Self::TotalReflectionOnset { onset, share } => {
+                if eta_fixed {
+                    return Err("a total-reflection-onset warning is one of a fitted eta \
+                                (eta_fixed false)"
+                        .to_owned());
+                }
+                if !(onset.is_finite() && *onset >= 1.0) {
+                    return Err(format!(
+                        "a total-reflection-onset warning's onset must be a finite index >= 1, \
+                         got {}",
+                        show(*onset)
+                    ));
+                }
+                if !(*share > 0.0 && *share <= 1.0) {
+                    return Err(format!(
+                        "a total-reflection-onset warning's share must be in (0, 1], got {}",
+                        show(*share)
+                    ));
+                }
             }
         }
         Ok(())
