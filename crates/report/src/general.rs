@@ -19,7 +19,7 @@ use stfit_fit::{FitResult, Measurement, Sample, reduced_azimuth_deg};
 use crate::figures::{LARGE, curve_chart, draw_title, fmt_tick};
 use crate::render::Figure;
 use crate::style::{AnglePalette, GREY, Glyph, LegendEntry, bold, draw_header, fmt_deg, text};
-use crate::view::{ModelSlot, NotDrawn, sample_title};
+use crate::view::{ModelSlot, NotDrawn, sample_title, walk_seconds_at};
 use crate::{ReportError, YScale};
 
 /// Spacing of the model curves along the plane of incidence, degrees.
@@ -130,11 +130,7 @@ impl<'a> GeneralView<'a> {
         let Ok((incidences, members)) = layout(sample) else {
             return 0.0;
         };
-        let points = panel_points(&incidences, &members);
-        fits.iter()
-            .flatten()
-            .map(|f| f.model.walk_seconds(&points).unwrap_or(0.0))
-            .sum()
+        walk_seconds_at(fits, &panel_points(&incidences, &members))
     }
 }
 

@@ -181,6 +181,15 @@ fn panel_points(groups: &[AngleGroup], range: (f64, f64)) -> Vec<Measurement> {
     points
 }
 
+/// The summed [`Model::walk_seconds`](stfit_fit::Model::walk_seconds) of a sample's `fits`
+/// at the points of their panel: 0 for single-scattering fits and for a fit the points refuse.
+pub(crate) fn walk_seconds_at(fits: [Option<&FitResult>; 4], points: &[Measurement]) -> f64 {
+    fits.iter()
+        .flatten()
+        .map(|f| f.model.walk_seconds(points).unwrap_or(0.0))
+        .sum()
+}
+
 fn panel_view<'a>(
     fit: &'a FitResult,
     groups: &[AngleGroup],
@@ -307,11 +316,7 @@ impl<'a> SampleView<'a> {
         let Ok((groups, range)) = layout(sample, opts.y_scale) else {
             return 0.0;
         };
-        let points = panel_points(&groups, range);
-        fits.iter()
-            .flatten()
-            .map(|f| f.model.walk_seconds(&points).unwrap_or(0.0))
-            .sum()
+        walk_seconds_at(fits, &panel_points(&groups, range))
     }
 
     /// Whether any point has weight 0 (drawn hollow, not fitted).
