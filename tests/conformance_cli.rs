@@ -90,3 +90,44 @@ fn azimuths_a_whole_turn_apart_are_the_same_direction_exactly() {
     };
     assert_eq!(fit(&file), fit(&other));
 }
+
+/// data-format.md: azimuths of a general grid are "any finite value", and `synth` "records the
+/// exact command that made the file" in its comment lines. `--phi-i -90` and `--phi-o -170:..`
+/// were refused by the argument parser as unknown flags (`unexpected argument '-9' found`), and
+/// so the command a file records for negative azimuths given as `--phi-o=-170:170:20` did not
+/// run again.
+#[test]
+fn synth_takes_negative_azimuths_and_its_recorded_command_runs_again() {
+    let text = stfit(&[
+        "synth",
+        "--grid",
+        "general",
+        "--model",
+        "ggx",
+        "--alpha",
+        "0.3",
+        "--theta-i",
+        "30",
+        "--phi-i",
+        "-90",
+        "--theta-o",
+        "40,140",
+        "--phi-o",
+        "-170:170:20",
+    ])
+    .ok()
+    .to_owned();
+    let data = rows(&text);
+    assert_eq!(data.len(), 2 * 18, "{text}");
+    assert!(data.iter().all(|r| r[2] == "-90"), "{text}");
+    assert_eq!(data[0][4], "-170");
+    let recorded = text.lines().next().unwrap();
+    let args: Vec<&str> = recorded
+        .strip_prefix("# stfit ")
+        .unwrap()
+        .split_whitespace()
+        .skip(1)
+        .collect();
+    assert!(args.contains(&"-170:170:20"), "{recorded}");
+    assert_eq!(stfit(&args).ok(), text, "{recorded}");
+}
