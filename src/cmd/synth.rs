@@ -54,16 +54,18 @@ pub struct SynthArgs {
     /// [default: 0,30,60,120,150].
     #[arg(long, value_name = "LIST")]
     pub theta_i: Option<String>,
-    /// Azimuths of the incidence directions in degrees (general grid) [default: 0].
-    #[arg(long, value_name = "LIST")]
+    /// Azimuths of the incidence directions in degrees (general grid), any finite values,
+    /// negative ones too (`--phi-i -90,90`) [default: 0].
+    #[arg(long, value_name = "LIST", allow_hyphen_values = true)]
     pub phi_i: Option<String>,
     /// Outgoing directions in degrees. In-plane: inside the glass in (90, 270), 180 straight
     /// through [default: 106:254:2]; general: polar angles toward the detector in [0, 180]
     /// without 90 [default: 5:175:10].
     #[arg(long, value_name = "LIST")]
     pub theta_o: Option<String>,
-    /// Azimuths of the outgoing directions in degrees (general grid) [default: 0:340:20].
-    #[arg(long, value_name = "LIST")]
+    /// Azimuths of the outgoing directions in degrees (general grid), any finite values,
+    /// negative ones too (`--phi-o -170:170:20`) [default: 0:340:20].
+    #[arg(long, value_name = "LIST", allow_hyphen_values = true)]
     pub phi_o: Option<String>,
     /// Write the general grid as pab-opto goniophotometer files (one per incidence direction
     /// and side, into the folder --out), with DSF (BSDF times |cos theta_o|) or BSDF values.

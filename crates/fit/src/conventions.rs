@@ -30,11 +30,16 @@ pub fn theta_in_range(theta_deg: f64) -> bool {
     (0.0..=180.0).contains(&theta_deg) && theta_deg != 90.0
 }
 
-/// An azimuth in degrees reduced to (-360, 360), exactly (the remainder of a division of
-/// doubles is exact): any finite azimuth a file holds means the same direction as its
-/// remainder, which then converts to radians without the rounding of a huge angle.
+/// An azimuth in degrees reduced to [0, 360): any finite azimuth a file holds means the same
+/// direction as its reduction, which then converts to radians without the rounding of a huge
+/// angle. Azimuths that differ by whole turns reduce to the same number, whatever their signs
+/// (`-330` and `30`, `-80` and `1e17`): the remainder of a division of doubles is exact, and a
+/// negative remainder plus 360 is exact whenever another double differs from it by whole turns
+/// (that double's remainder is that sum). A negative azimuth too small for its sum with 360 to
+/// be exact, such as `-1e-20`, differs by whole turns from no other double, and reduces to 360.
 pub fn reduced_azimuth_deg(phi_deg: f64) -> f64 {
-    phi_deg % 360.0
+    // `+ 0.0` turns the remainder -0 of a negative whole number of turns into 0.
+    phi_deg.rem_euclid(360.0) + 0.0
 }
 
 /// The unit direction of polar angle `theta_deg` from +z and azimuth `phi_deg` (any finite
@@ -103,7 +108,12 @@ mod tests {
         for phi in [280.0 + 360.0 * 1e12, 36_000_000_000_000_280.0, 1e17, 1e20] {
             assert_eq!(spherical_from_deg(150.0, phi), base, "phi {phi}");
         }
-        let back = spherical_from_deg(150.0, -80.0);
-        assert!((back - base).norm() < 1e-15);
+        for phi in [-80.0, -440.0, -360.0 * 1e12 + 280.0, -1e17 - 160.0] {
+            assert_eq!(spherical_from_deg(150.0, phi), base, "phi {phi}");
+        }
+        for (phi, reduced) in [(-330.0, 30.0), (-360.0, 0.0), (720.0, 0.0), (-1e-20, 360.0)] {
+            let r = reduced_azimuth_deg(phi);
+            assert_eq!(r.to_bits(), f64::to_bits(reduced), "phi {phi}: {r}");
+        }
     }
 }
