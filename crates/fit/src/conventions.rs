@@ -30,13 +30,14 @@ pub fn theta_in_range(theta_deg: f64) -> bool {
     (0.0..=180.0).contains(&theta_deg) && theta_deg != 90.0
 }
 
-/// An azimuth in degrees reduced to [0, 360): any finite azimuth a file holds means the same
-/// direction as its reduction, which then converts to radians without the rounding of a huge
-/// angle. Azimuths that differ by whole turns reduce to the same number, whatever their signs
-/// (`-330` and `30`, `-80` and `1e17`): the remainder of a division of doubles is exact, and a
-/// negative remainder plus 360 is exact whenever another double differs from it by whole turns
-/// (that double's remainder is that sum). A negative azimuth too small for its sum with 360 to
-/// be exact, such as `-1e-20`, differs by whole turns from no other double, and reduces to 360.
+/// An azimuth in degrees reduced to [0, 360] (360 only as said below): any finite azimuth a
+/// file holds means the same direction as its reduction, which then converts to radians
+/// without the rounding of a huge angle. Azimuths that differ by whole turns reduce to the
+/// same number, whatever their signs (`-330` and `30`, `-80` and `1e17`): the remainder of a
+/// division of doubles is exact, and a negative remainder plus 360 is exact whenever another
+/// double differs from it by whole turns (that double's remainder is that sum). A negative
+/// azimuth too small for its sum with 360 to be exact, such as `-1e-20`, differs by whole
+/// turns from no other double, and reduces to 360.
 pub fn reduced_azimuth_deg(phi_deg: f64) -> f64 {
     // `+ 0.0` turns the remainder -0 of a negative whole number of turns into 0.
     phi_deg.rem_euclid(360.0) + 0.0
