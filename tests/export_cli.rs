@@ -668,3 +668,67 @@ fn a_refused_fit_does_not_stop_the_others() {
     written.sort();
     assert_eq!(written, ["a_ggx-appleseed.xml", "c_ggx-appleseed.xml"]);
 }
+
+/// The rmse figures of the summary lines an export prints on stderr, in order.
+fn summary_rmses(stderr: &str) -> Vec<f64> {
+    stderr
+        .lines()
+        .flat_map(|l| l.split("rmse sqrt(L): ").skip(1))
+        .flat_map(|part| part.split(", ").map(|s| s.split(' ').next().unwrap()))
+        .map(|v| v.parse::<f64>().unwrap_or_else(|_| panic!("{v}: {stderr}")))
+        .collect()
+}
+
+/// A fit's scale is any positive number (data of 1e307 fit to a scale of 1e307, fits-format.md)
+/// and is never applied; the translation's rmse, in the fit's units `sqrt(L)`, grows with its
+/// square root. `L` at a peak times such a scale had overflowed: a GGX fit's export printed
+/// `rmse sqrt(L): NaN` (exit 0) and a Beckmann fit's was refused ("the cost is not finite"),
+/// while a scale of 1e-307 underflowed and was refused ("not a representable number").
+#[test]
+fn fits_of_huge_and_tiny_scales_export_with_finite_errors() {
+    let dir = CaseDir::new("export-scales");
+    let export = |path: &std::path::Path, model: &str| {
+        let out = cli().run(&[
+            "export",
+            path.to_str().unwrap(),
+            "--to",
+            "pbrt-v4",
+            "--sample",
+            "frosted",
+            "--model",
+            model,
+        ]);
+        let text = out.ok().to_string();
+        assert!(
+            !text.contains("NaN") && !out.stderr.contains("NaN"),
+            "{text}{}",
+            out.stderr
+        );
+        summary_rmses(&out.stderr)
+    };
+    let plain = dir.file("plain.json", example_text());
+    for (model, scale) in [
+        ("beckmann", "1.00844442304944"),
+        ("ggx", "0.9997120509270278"),
+    ] {
+        let expected = export(&plain, model);
+        assert_eq!(expected.len(), 2, "{expected:?}");
+        for exponent in [307, -307] {
+            let factor = 10f64.powi(exponent);
+            let edited = edited_fits(
+                &dir,
+                "scaled.json",
+                &format!("\"scale\": {scale},"),
+                &format!("\"scale\": {scale}e{exponent},"),
+            );
+            let got = export(&edited, model);
+            // The plain figures have four decimals (0.0042).
+            for (g, e) in got.iter().zip(&expected) {
+                assert!(
+                    (g / factor.sqrt() - e).abs() <= 5e-5 + 1e-3 * e,
+                    "{model} at {factor:e}: {got:?}, expected {expected:?} times sqrt of it"
+                );
+            }
+        }
+    }
+}

@@ -436,3 +436,58 @@ fn samples_that_map_to_one_file_name_are_all_reported() {
         );
     }
 }
+
+/// A stored fit whose record is not one a fit writes (fits-format.md) but whose model can be
+/// evaluated is named and not drawn, as a model out of its range is: `report --fits` had drawn
+/// it and printed its numbers in `fits.md` (`0.3000 ± -1.0`, an rmse of `-1.000`, `± 0` for a
+/// standard error, an eta no glass of a fit has), where `export` refuses the same file.
+#[test]
+fn stored_fits_outside_the_format_are_named_not_drawn() {
+    let dir = CaseDir::new("report-invalid-record");
+    let fits = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fits/example-fits.json");
+    let text = std::fs::read_to_string(&fits).unwrap();
+    // The first fit is frosted's Beckmann fit.
+    for (from, to, named) in [
+        (
+            "\"alpha_stderr\": 0.",
+            "\"alpha_stderr\": -0.",
+            "alpha_stderr",
+        ),
+        ("\"rmse_sqrt_l\": 0.", "\"rmse_sqrt_l\": -0.", "rmse_sqrt_l"),
+        (
+            "\"scale_stderr\": 0.037816213187896595",
+            "\"scale_stderr\": 0",
+            "scale_stderr",
+        ),
+        ("\"eta\": 1.51", "\"eta\": 1.01", "eta"),
+        ("\"log_floor\": null", "\"log_floor\": 0.01", "log_floor"),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let edited = dir.file("fits.json", text.replacen(from, to, 1));
+        let out = dir.join("report");
+        let run = stfit(&[
+            "report",
+            p(&example()),
+            "--sample",
+            "frosted",
+            "--fits",
+            p(&edited),
+            "--out",
+            p(&out),
+        ]);
+        assert_eq!(run.code, Some(0), "{to}: {}", run.stderr);
+        let warning = run
+            .stderr
+            .lines()
+            .find(|l| l.contains("is not valid"))
+            .unwrap_or_else(|| panic!("{to}: no warning: {}", run.stderr));
+        assert!(
+            warning.starts_with("warning: sample 'frosted', beckmann") && warning.contains(named),
+            "{to}: {warning}"
+        );
+        let md = read(&out, "fits.md");
+        assert!(md.contains("## Not drawn"), "{to}: {md}");
+        assert_eq!(table_rows(&md, "frosted").len(), 3, "{to}: {md}");
+        assert!(!md.contains("± -") && !md.contains("± 0 "), "{to}: {md}");
+    }
+}

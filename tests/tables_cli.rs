@@ -418,3 +418,60 @@ fn invalid_options_exit_with_status_2() {
     assert!(err.contains("--alpha-grid is required"), "{err}");
     assert!(!std::path::Path::new(&out).exists());
 }
+
+/// A table of more cells than can be held is refused before any work, naming its shape and
+/// the limit: four axes of 4096 nodes (each within its own limit) made 2^37 lines, whose list
+/// alone was an allocation of a terabyte that aborted the process (exit 134), and a shard of
+/// it scanned them for days.
+#[test]
+fn a_table_too_large_to_hold_is_refused_before_any_work() {
+    let dir = CaseDir::new("too-large");
+    let out = file(&dir, "t.csv");
+    let shard = file(&dir, "s.json");
+    let axes = [
+        "tables",
+        "--ndf",
+        "student-t",
+        "--gamma-grid",
+        "log:1.6:40:4096",
+        "--alpha-grid",
+        "log:1e-8:4:4096",
+        "--mu-grid",
+        "log:1e-4:1:4096",
+        "--eta-grid",
+        "log:1.01:100:4096",
+    ];
+    for tail in [
+        vec!["--out", out.as_str()],
+        vec!["--shard", "1/1000000000", "--out", shard.as_str()],
+    ] {
+        let args: Vec<&str> = axes.iter().copied().chain(tail).collect();
+        let err = stfit_fails(&args, 2);
+        assert!(
+            err.contains("2 x 4096 x 4096 x 4096 x 4096")
+                && err.contains("more than the 16777216 a table may have"),
+            "{err}"
+        );
+    }
+    // Past the limit by a little: 2 sides x 2 x 3 x 2048 x 1024 = 1.5 x 2^24 cells.
+    let err = stfit_fails(
+        &[
+            "tables",
+            "--ndf",
+            "student-t",
+            "--gamma-grid",
+            "2,3",
+            "--alpha-grid",
+            "0.1:1:1024",
+            "--mu-grid",
+            "0.1:1:2048",
+            "--eta-grid",
+            "1.3,1.5,1.7",
+            "--out",
+            &out,
+        ],
+        2,
+    );
+    assert!(err.contains("25165824 cells"), "{err}");
+    assert!(!std::path::Path::new(&out).exists());
+}

@@ -20,15 +20,33 @@ use crate::target::Scatter;
 use crate::{ExportError, ExportModel};
 use stfit_core::bsdf::AnalyticBsdf;
 
+/// A fit's scale as `unit root^2`, with `root` a power of 2 (so that both products are exact)
+/// and `unit` within a factor 2 of 1: `sqrt(scale v) = root sqrt(unit v)` exactly, and `unit v`
+/// neither overflows nor underflows where `scale v` would (a fit to data of 1e307 has a scale
+/// of 1e307, and `L` at a specular peak was infinite, the rmse NaN). A scale between 0.5 and 2
+/// is its own unit (`root` 1), so nothing changes for it; for any other, every result in
+/// `sqrt(L)` is the same to the bit wherever the direct products were finite and normal.
+pub fn split_scale(scale: f64) -> (f64, f64) {
+    let m = (scale.log2() / 2.0).round().clamp(-537.0, 512.0) as i32;
+    let root = f64::from_bits(((1023 + m) as u64) << 52);
+    (scale / root / root, root)
+}
+
 /// The fitted model's `sqrt(L)` over a [`SphereSet`], computed once per export.
+///
+/// Held in units of `sqrt(L / root^2)` ([`split_scale`]); [`Reference::rmse`] and
+/// [`Reference::rms`] return the fit's units `sqrt(L)`.
 #[derive(Debug, Clone)]
 pub struct Reference {
     set: SphereSet,
     eta: f64,
+    /// The scale's `unit` ([`split_scale`]).
     scale: f64,
-    /// `sqrt(L)` per incidence direction (row of the set), per outgoing direction.
+    /// The scale's `root` ([`split_scale`]): `sqrt(L)` is `root` times the values held.
+    root: f64,
+    /// `sqrt(L) / root` per incidence direction (row of the set), per outgoing direction.
     sqrt_l: Vec<Vec<f64>>,
-    /// Mean square of `sqrt(L)`: normalises the optimiser's cost to the order of 1.
+    /// Mean square of `sqrt(L) / root`: normalises the optimiser's cost to the order of 1.
     energy: f64,
     /// Incidences whose lobes even graded directions do not resolve ([`resolved`]).
     warnings: Vec<String>,
@@ -45,6 +63,7 @@ impl Reference {
             .map(|&(wi, wo)| l_per_bsdf(wi, wo, eta))
             .collect();
         let mut values = model.forward_values(&pairs, q)?.into_iter();
+        let (scale, root) = split_scale(model.scale());
         let sqrt_l = set
             .rows
             .iter()
@@ -52,14 +71,15 @@ impl Reference {
                 values
                     .by_ref()
                     .take(row.outgoing.len())
-                    .map(|v| (model.scale() * v).max(0.0).sqrt())
+                    .map(|v| (scale * v).max(0.0).sqrt())
                     .collect()
             })
             .collect();
         let mut r = Self {
             set,
             eta,
-            scale: model.scale(),
+            scale,
+            root,
             sqrt_l,
             energy: 1.0,
             warnings: Vec::new(),
@@ -118,6 +138,11 @@ impl Reference {
 
     /// Root-mean-square difference of `sqrt(L)` between `target` and the fitted model.
     pub fn rmse(&self, target: &impl Scatter) -> f64 {
+        self.unit_rmse(target) * self.root
+    }
+
+    /// [`Reference::rmse`] in the units held, `sqrt(L) / root`, whose square cannot overflow.
+    fn unit_rmse(&self, target: &impl Scatter) -> f64 {
         self.mean_square(|wi, wo| target.f_cos(wi, wo)).sqrt()
     }
 
@@ -125,7 +150,7 @@ impl Reference {
     /// [`Reference::rmse`]; at least `sqrt(f64::MIN_POSITIVE)`): the scale a translation's
     /// rmse is relative to.
     pub fn rms(&self) -> f64 {
-        self.energy.sqrt()
+        self.energy.sqrt() * self.root
     }
 }
 
@@ -274,20 +299,27 @@ pub fn grid_rmse(
     target: &impl Scatter,
     grid: &[(f64, f64)],
 ) -> Result<f64, ExportError> {
-    let fitted = model.model.predict(grid)?;
+    // In units of sqrt(L) / root (split_scale), as the reference.
+    let (scale, root) = split_scale(model.scale());
+    let unit_model = stfit_fit::Model {
+        scale,
+        ..model.model
+    };
+    let fitted = unit_model.predict(grid)?;
     let s: f64 = grid
         .iter()
         .zip(&fitted)
         .map(|(&(ti, to), &l)| {
             let (wi, wo) = pair_from_deg(ti, to);
-            let t = l_of(target.f_cos(wi, wo), wi, wo, model.eta(), model.scale());
+            let t = l_of(target.f_cos(wi, wo), wi, wo, model.eta(), scale);
             (l.max(0.0).sqrt() - t.max(0.0).sqrt()).powi(2)
         })
         .sum();
-    Ok((s / grid.len().max(1) as f64).sqrt())
+    Ok((s / grid.len().max(1) as f64).sqrt() * root)
 }
 
-/// Sensitivity of each parameter at `p` (see the module docs).
+/// Sensitivity of each parameter at `p` (see the module docs), from the mean square error `e0`
+/// at `p` in the reference's units ([`Reference::unit_rmse`] squared).
 fn sensitivity<F: Family>(
     family: &F,
     reference: &Reference,
@@ -304,14 +336,14 @@ fn sensitivity<F: Family>(
             q[k] += sign * h;
             // Stay inside the renderer's range: a one-sided difference at a bound.
             let q = family.params_of(&family.search_of(&q));
-            e[j] = reference.rmse(&family.build(&q)?).powi(2);
+            e[j] = reference.unit_rmse(&family.build(&q)?).powi(2);
         }
         let curv = ((e[0] + e[1] - 2.0 * e0) / (h * h)).max(0.0);
         let s = (0.5 * curv).sqrt();
         out.push(Parameter {
             name: names[k],
             value: p[k],
-            rmse_per_unit: s,
+            rmse_per_unit: s * reference.root,
             change_for_10pct: (e0 > 0.0 && s > 0.0).then(|| (0.21 * e0).sqrt() / s),
         });
     }
@@ -326,10 +358,10 @@ pub fn evaluate<F: Family>(
     p: &[f64],
 ) -> Result<Translation, ExportError> {
     let bsdf = family.build(p)?;
-    let rmse = reference.rmse(&bsdf);
+    let unit_rmse = reference.unit_rmse(&bsdf);
     Ok(Translation {
-        params: sensitivity(family, reference, p, rmse * rmse)?,
-        rmse,
+        params: sensitivity(family, reference, p, unit_rmse * unit_rmse)?,
+        rmse: unit_rmse * reference.root,
         rmse_measured_grid: grid_rmse(model, &bsdf, &measured_grid())?,
         exact_ndf: true,
         iterations: 0,
@@ -348,7 +380,7 @@ pub fn fit<F: Family>(
     let cost = |x: &[f64]| {
         let p = family.params_of(x);
         family.build(&p).map_or(f64::INFINITY, |b| {
-            reference.rmse(&b).powi(2) / reference.energy
+            reference.unit_rmse(&b).powi(2) / reference.energy
         })
     };
     let mut best: Option<stfit_fit::optimize::Minimum> = None;
@@ -379,10 +411,10 @@ pub fn fit<F: Family>(
         }
     }
     let bsdf = family.build(&p)?;
-    let rmse = reference.rmse(&bsdf);
+    let unit_rmse = reference.unit_rmse(&bsdf);
     Ok(Translation {
-        params: sensitivity(family, reference, &p, rmse * rmse)?,
-        rmse,
+        params: sensitivity(family, reference, &p, unit_rmse * unit_rmse)?,
+        rmse: unit_rmse * reference.root,
         rmse_measured_grid: grid_rmse(model, &bsdf, &measured_grid())?,
         exact_ndf: false,
         iterations,

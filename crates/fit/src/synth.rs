@@ -57,9 +57,9 @@ pub enum SynthError {
     /// An empty list of angles.
     #[error("no {0} angles given")]
     NoAngles(&'static str),
-    /// Too many points.
-    #[error("the grid has {0} points; at most {MAX_POINTS} are allowed")]
-    TooManyPoints(usize),
+    /// Too many points: the number of points (`u128::MAX` for more than it holds).
+    #[error("the grid has {} points; at most {MAX_POINTS} are allowed", count_text(*.0))]
+    TooManyPoints(u128),
     /// The sample name cannot be written as a data row.
     #[error(
         "sample name '{}' is not allowed: it must be non-empty, have no control characters \
@@ -143,22 +143,24 @@ impl Grid {
         }
     }
 
-    /// Number of points.
-    fn len(&self) -> usize {
-        match self {
+    /// Number of points, exact up to `u128::MAX` (which stands for more): four lists of
+    /// millions of angles each, which a usize product saturated, reported 2^64 - 1 points.
+    fn len(&self) -> u128 {
+        let lists: &[&Vec<f64>] = match self {
             Self::InPlane {
                 theta_i_deg,
                 theta_o_deg,
-            } => theta_i_deg.len().saturating_mul(theta_o_deg.len()),
+            } => &[theta_i_deg, theta_o_deg],
             Self::Spherical {
                 theta_i_deg,
                 phi_i_deg,
                 theta_o_deg,
                 phi_o_deg,
-            } => [theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg]
-                .iter()
-                .fold(1usize, |n, l| n.saturating_mul(l.len())),
-        }
+            } => &[theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg],
+        };
+        lists
+            .iter()
+            .fold(1u128, |n, l| n.saturating_mul(l.len() as u128))
     }
 
     /// The grid's points with value 0 and weight 1, in row order.
@@ -181,7 +183,8 @@ impl Grid {
                 theta_o_deg,
                 phi_o_deg,
             } => {
-                let mut out = Vec::with_capacity(self.len());
+                // At most MAX_POINTS: the grid was checked.
+                let mut out = Vec::with_capacity(self.len() as usize);
                 for &ti in theta_i_deg {
                     for &pi in phi_i_deg {
                         for &to in theta_o_deg {
@@ -212,6 +215,15 @@ pub struct SynthSpec {
     pub name: String,
 }
 
+/// A number of points as an error states it: `more than 2^128 - 2` for `u128::MAX`.
+fn count_text(n: u128) -> String {
+    if n == u128::MAX {
+        format!("more than {}", u128::MAX - 1)
+    } else {
+        n.to_string()
+    }
+}
+
 impl SynthSpec {
     /// Checks every parameter, returning the first problem.
     pub fn validate(&self) -> Result<(), SynthError> {
@@ -221,7 +233,7 @@ impl SynthSpec {
         }
         self.grid.check()?;
         let n = self.grid.len();
-        if n > MAX_POINTS {
+        if n > MAX_POINTS as u128 {
             return Err(SynthError::TooManyPoints(n));
         }
         let name_ok = !self.name.is_empty()
@@ -636,6 +648,33 @@ mod tests {
             let e = s.sample().unwrap_err().to_string();
             assert!(e.contains(word), "{e} should mention {word}");
         }
+    }
+
+    /// A grid of more points than a u64 counts is refused with its exact count: the product
+    /// had saturated, and the error said 18446744073709551615 points.
+    #[test]
+    fn a_grid_too_large_states_its_exact_number_of_points() {
+        let mut s = spec();
+        let list = |lo: f64| {
+            (0..70_000)
+                .map(|k| lo + k as f64 * 1e-3)
+                .collect::<Vec<_>>()
+        };
+        s.grid = Grid::Spherical {
+            theta_i_deg: list(0.0),
+            phi_i_deg: list(0.0),
+            theta_o_deg: list(100.0),
+            phi_o_deg: list(0.0),
+        };
+        let e = s.sample().unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "the grid has 24010000000000000000 points; at most 1000000 are allowed"
+        );
+        assert_eq!(
+            count_text(u128::MAX),
+            format!("more than {}", u128::MAX - 1)
+        );
     }
 
     /// Multiple scattering adds the walk's orders >= 2 to the height-correlated single

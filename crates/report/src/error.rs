@@ -63,8 +63,9 @@ pub enum ReportError {
 }
 
 impl ReportError {
-    /// [`ReportError::InvalidFit`] of `fit`, whose model could not be evaluated for `e`.
-    pub(crate) fn invalid_fit(fit: &stfit_fit::FitResult, e: stfit_fit::FitError) -> Self {
+    /// [`ReportError::InvalidFit`] of `fit`, whose model could not be evaluated, or whose record
+    /// is outside the documented ranges ([`stfit_fit::FitResult::check`]), for `e`.
+    pub(crate) fn invalid_fit(fit: &stfit_fit::FitResult, e: impl std::fmt::Display) -> Self {
         Self::InvalidFit {
             sample: fit.sample.clone(),
             model: crate::view::ModelSlot::of(fit).title().to_string(),

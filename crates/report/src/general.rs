@@ -221,6 +221,7 @@ fn panel_of<'a>(
     members: &[Vec<&Measurement>],
     y: YScale,
 ) -> Result<GeneralPanel<'a>, ReportError> {
+    fit.check().map_err(|e| ReportError::invalid_fit(fit, e))?;
     let invalid = |e| ReportError::invalid_fit(fit, e);
     let ndf = fit.model.ndf().map_err(invalid)?;
     let xs = curve_xs();

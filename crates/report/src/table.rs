@@ -278,7 +278,8 @@ pub fn fits_markdown(
         for n in not_drawn {
             let _ = writeln!(
                 md,
-                "- {}: the stored model cannot be evaluated ({}); the panel shows the data alone",
+                "- {}: the stored fit is not valid or its model cannot be evaluated ({}); the panel \
+                 shows the data alone",
                 sample_cell(&n.fit.label()).replace('|', "\\|"),
                 n.reason.replace('|', "\\|")
             );

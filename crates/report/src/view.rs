@@ -196,6 +196,7 @@ fn panel_view<'a>(
     range: (f64, f64),
     opts: &ReportOptions,
 ) -> Result<PanelView<'a>, ReportError> {
+    fit.check().map_err(|e| ReportError::invalid_fit(fit, e))?;
     let invalid = |e| ReportError::invalid_fit(fit, e);
     let ndf = fit.model.ndf().map_err(invalid)?;
     let points = panel_points(groups, range);
@@ -234,12 +235,14 @@ fn panel_view<'a>(
 }
 
 /// A stored fit whose model cannot be evaluated (parameters outside the supported ranges, say,
-/// in a hand-edited fits file): the report names it in its warnings and in `fits.md`, draws its
-/// panel with the data alone and leaves it out of the table.
+/// in a hand-edited fits file), or whose record is not one a fit writes (a number outside its
+/// documented range, such as a negative standard error, [`FitResult::check`]): the report names
+/// it in its warnings and in `fits.md`, draws its panel with the data alone and leaves it out of
+/// the table.
 #[derive(Debug, Clone)]
 pub struct NotDrawn<'a> {
     pub fit: &'a FitResult,
-    /// Why the model cannot be evaluated.
+    /// Why the fit is not valid or its model cannot be evaluated.
     pub reason: String,
 }
 
@@ -264,8 +267,8 @@ impl<'a> NotDrawn<'a> {
     /// The warning of the report: the fit, why, and what was left out.
     pub fn message(&self) -> String {
         format!(
-            "{}: the stored model cannot be evaluated ({}); its curves are not drawn and it is \
-             left out of the table",
+            "{}: the stored fit is not valid or its model cannot be evaluated ({}); its curves are \
+             not drawn and it is left out of the table",
             self.fit.label(),
             self.reason
         )

@@ -117,12 +117,32 @@ impl Axis {
         if mapped.values == self.values {
             return Ok(());
         }
-        Err(format!(
-            "values {:?} are not what {} gives at the parameters {:?}",
-            self.values,
-            self.mapping.name(),
-            self.params
-        ))
+        let name = self.mapping.name();
+        if self.values.len() <= 10 && self.params.len() <= 10 {
+            return Err(format!(
+                "values {:?} are not what {name} gives at the parameters {:?}",
+                self.values, self.params
+            ));
+        }
+        // A long axis (up to MAX_NODES) is not echoed whole: its first difference is named.
+        let (n, m) = (self.values.len(), self.params.len());
+        Err(
+            match self
+                .values
+                .iter()
+                .zip(&mapped.values)
+                .position(|(a, b)| a != b)
+            {
+                Some(k) => format!(
+                    "values are not what {name} gives at the parameters: node {k} (from 0) is {}, \
+                 {name} gives {} at the parameter {}",
+                    show(self.values[k]),
+                    show(mapped.values[k]),
+                    show(self.params[k])
+                ),
+                None => format!("{n} values for {m} parameters (one value per parameter)"),
+            },
+        )
     }
 
     /// Number of nodes.
@@ -376,6 +396,23 @@ mod tests {
         );
         a.values.pop();
         assert!(a.check_mapped().is_err());
+        // A long axis is not echoed whole (a shard file's axis of 4096 nodes made a message of
+        // 80 kB): its first difference is named.
+        let mut long: Axis = "0.1:0.5:4096".parse().unwrap();
+        long.values[7] = 0.2;
+        let err = long.check_mapped().unwrap_err();
+        assert!(
+            err.starts_with(
+                "values are not what lin gives at the parameters: node 7 (from 0) is 0.2"
+            ) && err.len() < 200,
+            "{err}"
+        );
+        long.values[7] = long.params[7];
+        long.values.pop();
+        assert_eq!(
+            long.check_mapped().unwrap_err(),
+            "4095 values for 4096 parameters (one value per parameter)"
+        );
     }
 
     #[test]

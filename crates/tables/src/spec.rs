@@ -97,6 +97,12 @@ pub const MU_RANGE: (f64, f64) = (1e-4, 1.0);
 pub const ETA_RANGE: (f64, f64) = (1.0, 100.0);
 /// Supported range of a conductor's `n`; `k` is in `[0, CONDUCTOR_RANGE.1]`.
 pub const CONDUCTOR_RANGE: (f64, f64) = (stfit_core::error::CONDUCTOR_N_MIN, 100.0);
+/// Largest number of cells of a table (2^24, 64^4): the results are held in memory and the
+/// file is written at once, about 100 bytes per cell in memory and 250 in a CSV file, and
+/// single scattering alone takes 1 to 4 ms of CPU time per cell. Axes of up to
+/// [`crate::grid::MAX_NODES`] nodes each could otherwise ask for 2^37 lines (an allocation of
+/// a terabyte, which aborted the process).
+pub const MAX_CELLS: usize = 1 << 24;
 /// Largest number of walks per cell: the walks' own rule ([`stfit_core::walk::check_walks`]).
 pub use stfit_core::walk::MAX_WALKS;
 
@@ -201,6 +207,19 @@ impl TableSpec {
         }
         if self.sides.is_empty() || !self.sides.windows(2).all(|w| w[0] < w[1]) {
             return invalid("sides must be outside, inside, or outside then inside");
+        }
+        let shape = self.shape();
+        if shape
+            .iter()
+            .try_fold(1usize, |n, &len| n.checked_mul(len))
+            .is_none_or(|cells| cells > MAX_CELLS)
+        {
+            return Err(SpecError::Invalid(format!(
+                "the table has {} cells (sides x gamma x eta x mu x alpha = {}), more than the \
+                 {MAX_CELLS} a table may have: use fewer nodes",
+                shape.iter().map(|&n| n as f64).product::<f64>(),
+                shape.map(|n| n.to_string()).join(" x ")
+            )));
         }
         if self.surface != Surface::Dielectric && self.sides != [Side::Outside] {
             return invalid("conductors and mirrors are two-sided: tabulate side outside only");
