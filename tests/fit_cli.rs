@@ -883,3 +883,68 @@ fn synth_append_to_a_device_is_refused() {
     assert_eq!(out.code, Some(1), "{}", out.stderr);
     assert!(out.stderr.contains("not a regular file"), "{}", out.stderr);
 }
+
+/// An all-orders fit and `synth --orders all` whose random walks take long say so before they
+/// start, as `eval`, `albedo`, `export` and `report` do: with 1e9 walks per incidence (the
+/// most allowed) the first line on stderr, read while the run goes on and then stopped, is the
+/// note, in minutes, hours or days (a fit of one GGX model to the example's frosted sample:
+/// at least 4 estimates of the term, the surrogate's 3 nodes and its optimum). With the default
+/// walks neither says anything.
+#[test]
+fn all_orders_fits_and_synth_whose_walks_take_long_say_so_before_they_run() {
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fits/example.csv");
+    let fit = |walks: &'static str| {
+        vec![
+            p(&example).to_string(),
+            "--sample".into(),
+            "frosted".into(),
+            "--model".into(),
+            "ggx".into(),
+            "--orders".into(),
+            "all".into(),
+            "--walks".into(),
+            walks.into(),
+        ]
+    };
+    let synth = |walks: &'static str| {
+        [
+            "synth", "--model", "ggx", "--alpha", "0.5", "--orders", "all",
+        ]
+        .map(String::from)
+        .into_iter()
+        .chain(["--walks".to_string(), walks.to_string()])
+        .collect::<Vec<_>>()
+    };
+    let long_units = |line: &str, shorter: &str| {
+        [" min", " h", " days"]
+            .iter()
+            .any(|unit| line.ends_with(&format!("{unit} ({shorter})\n")))
+    };
+    let first_line = |args: Vec<String>| {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        Cli::new(env!("CARGO_BIN_EXE_stfit"))
+            .first_stderr_line(&args, std::time::Duration::from_secs(120))
+            .unwrap_or_else(|| panic!("no line on stderr within 120 s: {args:?}"))
+    };
+    let line = first_line(fit("1000000000"));
+    assert!(
+        line.starts_with(
+            "note: the random walks of the all-orders fits (at least 4 estimates of the orders \
+             >= 2 term, 1000000000 walks per incident direction each) will take about "
+        ) && long_units(&line, "fewer --walks make it shorter"),
+        "{line}"
+    );
+    let line = first_line(synth("1000000000"));
+    assert!(
+        line.starts_with(
+            "note: the random walks of the orders >= 2 term (1000000000 walks per incident \
+             direction) will take about "
+        ) && long_units(&line, "fewer --walks make it shorter"),
+        "{line}"
+    );
+    for args in [fit("20000"), synth("20000")] {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let run = stfit_ok(&args);
+        assert!(!run.stderr.contains("note:"), "{args:?}: {}", run.stderr);
+    }
+}

@@ -324,7 +324,6 @@ fn model_flag_of_a_report_must_be_all() {
 /// nothing.
 #[test]
 fn a_report_whose_walks_take_long_says_so_before_it_runs() {
-    use std::io::{BufRead, BufReader};
     let dir = CaseDir::new("report-long-run");
     let example_fits = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fits/example-fits.json");
     let mut file: serde_json::Value =
@@ -361,25 +360,12 @@ fn a_report_whose_walks_take_long_says_so_before_it_runs() {
             p(&out).to_string(),
         ]
     };
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_stfit"))
-        .args(report(&long))
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    // The first line of stderr, or nothing if none comes within two minutes: without a note
-    // the report would run its walks silently for far longer.
-    let stderr = child.stderr.take().unwrap();
-    let (send, receive) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        let mut line = String::new();
-        let _ = BufReader::new(stderr).read_line(&mut line);
-        let _ = send.send(line);
-    });
-    let line = receive.recv_timeout(std::time::Duration::from_secs(120));
-    child.kill().unwrap();
-    child.wait().unwrap();
-    let line = line.expect("no line on stderr within 120 s");
+    // Without a note the report would run its walks silently for far longer than two minutes.
+    let args = report(&long);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let line = Cli::new(env!("CARGO_BIN_EXE_stfit"))
+        .first_stderr_line(&args, std::time::Duration::from_secs(120))
+        .expect("no line on stderr within 120 s");
     assert!(
         line.starts_with(
             "note: the all-orders fits' own random walks, which give the orders >= 2 of the \

@@ -9,13 +9,14 @@ use indicatif::{ProgressBar, ProgressStyle};
 use stfit_core::ScatteringOrders;
 use stfit_fit::{
     DEFAULT_ETA, DEFAULT_LOG_FLOOR, DEFAULT_WALKS, Dataset, FitOptions, FitResult, FitsFile, Loss,
-    ModelKind, ModelSpec, MultipleTerm, Optimizer, Parameter, all_models, fit_dataset, load_paths,
+    ModelKind, ModelSpec, MultipleTerm, Optimizer, Parameter, all_models, fit_dataset,
+    fit_walk_cost, load_paths,
 };
 use stfit_report::fits_table;
 
 use super::{
-    CmdError, CmdResult, MaskingArg, MeasuredOrdersArg, Retired, failed, masking_of, print_stdout,
-    refuse_overwriting_input, usage, walks_only, write_file,
+    CmdError, CmdResult, MaskingArg, MeasuredOrdersArg, Retired, failed, long_run, masking_of,
+    print_stdout, refuse_overwriting_input, usage, walks_only, write_file,
 };
 
 /// Arguments of the default (fit) command.
@@ -291,6 +292,18 @@ pub fn fit_with_progress(
     opts: &FitOptions,
     show: bool,
 ) -> Result<Vec<FitResult>, CmdError> {
+    if opts.orders != ScatteringOrders::Single {
+        let cost = fit_walk_cost(data, specs, opts);
+        long_run::note_if_long(
+            cost.seconds,
+            &format!(
+                "the random walks of the all-orders fits (at least {} estimates of the orders >= \
+                 2 term, {} walks per incident direction each)",
+                cost.estimates, opts.walks
+            ),
+            "fewer --walks make it shorter",
+        );
+    }
     let show = show && opts.orders != ScatteringOrders::Single && std::io::stderr().is_terminal();
     let bar = show.then(|| {
         let bar = ProgressBar::new((data.samples.len() * specs.len()) as u64);

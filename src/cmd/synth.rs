@@ -9,8 +9,8 @@ use stfit_fit::synth::{SynthSpec, parse_angle_list, write_csv, write_file};
 use stfit_fit::{DEFAULT_ETA, DEFAULT_WALKS, Gamma, Grid, Model, ModelKind, SynthError};
 
 use super::{
-    CmdError, CmdResult, MaskingArg, MeasuredOrdersArg, Retired, check_eta_arg, failed, masking_of,
-    print_stdout, usage, walks_only,
+    CmdError, CmdResult, MaskingArg, MeasuredOrdersArg, Retired, check_eta_arg, failed, long_run,
+    masking_of, print_stdout, usage, walks_only,
 };
 
 /// Arguments of `stfit synth`.
@@ -226,14 +226,25 @@ pub fn run(args: SynthArgs, given: &[String]) -> CmdResult {
         seed: args.seed,
         name: args.sample.clone(),
     };
-    let sample = spec.sample().map_err(|e| match e {
+    let synth_error = |e| match e {
         // An angle comes from its flag: name the flag, not the file's column.
         SynthError::Angle { column, .. } => {
             let flag = column.trim_end_matches("_deg").replace('_', "-");
             usage(format!("--{flag}: {e}"))
         }
         e => usage(format!("synth: {e}")),
-    })?;
+    };
+    if walks {
+        long_run::note_if_long(
+            spec.walk_seconds().map_err(synth_error)?,
+            &format!(
+                "the random walks of the orders >= 2 term ({} walks per incident direction)",
+                args.walks
+            ),
+            "fewer --walks make it shorter",
+        );
+    }
+    let sample = spec.sample().map_err(synth_error)?;
 
     let show = stfit_core::error::show;
     let gamma = args

@@ -720,8 +720,32 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
         let (best, iterations) = hop_eta(&eval, best, iterations)?;
         return finish(&eval, &best.x, iterations, None);
     }
-    // Multiple scattering is a correction to single scattering: start from the optimum of the
-    // same model's single-scattering fit (height-correlated masking, the walk's order 1).
+    let (prep_single, start) = single_scattering_start(prep, shape, opts)?;
+    match opts.multiple_term {
+        MultipleTerm::Exact => {
+            let eval = Evaluator {
+                prep,
+                proj,
+                shape,
+                opts: *opts,
+                multi: None,
+            };
+            let (best, iterations) = search(&eval, vec![start])?;
+            finish(&eval, &best.x, iterations, None)
+        }
+        MultipleTerm::Surrogate => fit_with_surrogate(prep, &prep_single, shape, opts, proj, start),
+    }
+}
+
+/// The start of an all-orders fit of `prep`, in search coordinates, and `prep` with its
+/// single-scattering part alone. Multiple scattering is a correction to single scattering: the
+/// fit starts from the optimum of the same model's single-scattering fit (height-correlated
+/// masking, the walk's order 1).
+fn single_scattering_start<'a>(
+    prep: &Prepared<'a>,
+    shape: Shape,
+    opts: &FitOptions,
+) -> Result<(Prepared<'a>, Vec<f64>), FitError> {
     let single = FitOptions {
         orders: ScatteringOrders::Single,
         masking: Masking::Correlated,
@@ -737,20 +761,66 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
         gamma: r.model.gamma,
         eta: r.model.eta,
     });
-    match opts.multiple_term {
-        MultipleTerm::Exact => {
-            let eval = Evaluator {
-                prep,
-                proj,
-                shape,
-                opts: *opts,
-                multi: None,
-            };
-            let (best, iterations) = search(&eval, vec![start])?;
-            finish(&eval, &best.x, iterations, None)
-        }
-        MultipleTerm::Surrogate => fit_with_surrogate(prep, &prep_single, shape, opts, proj, start),
+    Ok((prep_single, start))
+}
+
+/// The fewest estimates of the orders >= 2 term (sets of walks) that an all-orders fit makes:
+/// with the surrogate, the nodes of one surrogate ([`crate::surrogate`]) and the estimate at
+/// its optimum; with the exact term, the first simplex of the search (`p + 1` points for `p`
+/// searched coordinates), one step, and at the optimum its estimate and the `2p` of its
+/// standard errors. A fit usually makes a few times more (more surrogates, more steps).
+fn fewest_term_estimates(shape: Shape, term: MultipleTerm) -> usize {
+    let p = shape.dims();
+    match term {
+        MultipleTerm::Surrogate => crate::surrogate::nodes(p).len() + 1,
+        MultipleTerm::Exact => (p + 1) + 1 + 1 + 2 * p,
     }
+}
+
+/// What the random walks of all-orders fits cost at the least ([`fit_walk_cost`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FitWalkCost {
+    /// The fewest estimates of the orders >= 2 term the fits make, summed over the fits.
+    pub estimates: usize,
+    /// Their estimated wall time, in seconds, on rayon's current pool.
+    pub seconds: f64,
+}
+
+/// The least the random walks of the fits of `specs` to every sample of `data` will cost, for
+/// a note before a long run: for each fit, the orders >= 2 term at its start (the
+/// single-scattering optimum) timed by a pilot run ([`Forward::walk_seconds`]: random numbers
+/// of its own, at most a sixteenth of one estimate's work), times the fewest estimates the fit
+/// makes ([`fewest_term_estimates`]). A fit usually makes a few times more, so the time is a
+/// lower bound. Zero for single scattering; a sample or model that cannot be fitted counts
+/// zero (its fit reports why).
+pub fn fit_walk_cost(data: &Dataset, specs: &[ModelSpec], opts: &FitOptions) -> FitWalkCost {
+    let mut cost = FitWalkCost {
+        estimates: 0,
+        seconds: 0.0,
+    };
+    if opts.orders == ScatteringOrders::Single {
+        return cost;
+    }
+    for sample in &data.samples {
+        let Ok(prep) = Prepared::new(sample, opts) else {
+            continue;
+        };
+        for &spec in specs {
+            let one = || -> Result<(usize, f64), FitError> {
+                let shape = Shape::new(spec, opts)?;
+                let (_, start) = single_scattering_start(&prep, shape, opts)?;
+                let pt = shape.point(&start);
+                let ndf = shape.model(pt, 1.0, opts).ndf()?;
+                let n = fewest_term_estimates(shape, opts.multiple_term);
+                Ok((n, n as f64 * prep.forward.walk_seconds(&ndf, pt.eta)?))
+            };
+            if let Ok((n, seconds)) = one() {
+                cost.estimates += n;
+                cost.seconds += seconds;
+            }
+        }
+    }
+    cost
 }
 
 /// The all-orders fit with the surrogate orders >= 2 term ([`crate::surrogate`]): a surrogate

@@ -42,7 +42,9 @@ pub mod synth;
 
 pub use conventions::{DEFAULT_ETA, reduced_azimuth_deg};
 pub use data::{Angles, Dataset, Measured, Measurement, Quantity, Sample, short};
-pub use fit::{DatasetFitError, FitError, fit_all, fit_dataset, fit_sample};
+pub use fit::{
+    DatasetFitError, FitError, FitWalkCost, fit_all, fit_dataset, fit_sample, fit_walk_cost,
+};
 pub use load::{Column, LoadError, LoadErrorKind, load_columns, load_path, load_paths};
 pub use model::{Gamma, Model, ModelKind, ModelSpec, all_models};
 pub use options::{

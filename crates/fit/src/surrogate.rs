@@ -27,7 +27,7 @@ use crate::forward::WalkTerm;
 
 /// The nodes of the quadratic design in `p` dimensions, in units of the steps: the centre, the
 /// `2p` axis points `+-e_i`, and the `p(p-1)/2` diagonal points `e_i + e_k`, in that order.
-fn nodes(p: usize) -> Vec<Vec<f64>> {
+pub(crate) fn nodes(p: usize) -> Vec<Vec<f64>> {
     let unit = |i: usize, s: f64| {
         let mut u = vec![0.0; p];
         u[i] = s;

@@ -247,6 +247,14 @@ impl SynthSpec {
         Ok(())
     }
 
+    /// Estimated wall time, in seconds, of the random walks of [`SynthSpec::sample`] on rayon's
+    /// current pool, for a note before a long run ([`Model::walk_seconds`] at the grid's
+    /// points); 0 for single scattering. Refuses what [`SynthSpec::sample`] refuses.
+    pub fn walk_seconds(&self) -> Result<f64, SynthError> {
+        self.validate()?;
+        Ok(self.model.walk_seconds(&self.grid.points())?)
+    }
+
     /// The synthetic sample: at every grid point, in row order, the model value
     /// ([`Model::predict_points`]: `L` for an in-plane grid, the BSDF for a general one) with
     /// multiplicative noise `max(0, v (1 + noise z))`, `z ~ N(0, 1)` drawn in row order from

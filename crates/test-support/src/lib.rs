@@ -129,6 +129,31 @@ impl Cli {
             stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
         }
     }
+
+    /// The first line of standard error (with its line break) of the binary run with `args`,
+    /// then stopped; `None` if no line comes within `timeout`. For a run too long to wait for,
+    /// such as one that should announce its length before it starts.
+    pub fn first_stderr_line(&self, args: &[&str], timeout: std::time::Duration) -> Option<String> {
+        use std::io::{BufRead, BufReader};
+        let mut child = Command::new(&self.bin)
+            .args(args)
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the stfit binary starts");
+        let stderr = child.stderr.take().expect("piped stderr");
+        let (send, receive) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let mut line = String::new();
+            let _ = BufReader::new(stderr).read_line(&mut line);
+            let _ = send.send(line);
+        });
+        let line = receive.recv_timeout(timeout).ok();
+        let _ = child.kill();
+        let _ = child.wait();
+        line.filter(|l| !l.is_empty())
+    }
 }
 
 /// A temporary folder for one test case, removed with its contents when dropped.
