@@ -334,7 +334,9 @@ fn stfit_bsdf(queries: &[[f64; 4]]) -> Vec<f64> {
 /// angle rotated by 180 degrees (azimuth 30, toward the light's side) and mirrored across the
 /// x axis (azimuth 150): an azimuth read or written flipped, a mirrored azimuth, or a side
 /// swapped (the lobe on the other hemisphere, absent from the component) fails. An incidence
-/// azimuth of 30 (not 0) is what makes the mirror visible to an isotropic BSDF.
+/// azimuth of 30 (not 0) is what makes the mirror visible to an isotropic BSDF. The files say
+/// `#upphi 90`, so Radiance's azimuths are the files' own (with `#upphi 0` they would be turned
+/// by 90 degrees, which this isotropic BSDF would not show).
 #[test]
 fn radiance_puts_stfit_peaks_where_stfit_does() {
     let Some(radiance) = radiance("radiance_puts_stfit_peaks_where_stfit_does") else {
@@ -370,6 +372,10 @@ fn radiance_puts_stfit_peaks_where_stfit_does() {
     .map(str::to_owned)
     .collect();
     assert_eq!(files.len(), 8, "4 incidences x reflection and transmission");
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        assert!(text.lines().any(|l| l == "#upphi 90"), "{file}");
+    }
     for (theta_i, side) in [(40.0, "R"), (40.0, "T"), (150.0, "R"), (150.0, "T")] {
         let theta_i: f64 = theta_i;
         let front = theta_i < 90.0;
