@@ -3,7 +3,7 @@
 //! `src/cv/pabopto2bsdf.c` define the format): one file per incident direction and scattered
 //! hemisphere, a header of `#` lines, then one line `theta phi value` per scattered direction.
 //!
-//! Header lines understood (others are ignored, as `pabopto2bsdf` does):
+//! Header lines understood (others are ignored):
 //!
 //! - `#sample_name "NAME"`: the sample, trimmed and not empty (files without one form an
 //!   unnamed sample);
@@ -11,14 +11,22 @@
 //!   ignored): the DSF is the BSDF times `|cos theta_out|`, and is divided by it on reading;
 //! - `#intheta T`, `#inphi P`, or `#incident_angle T P`: the direction toward the light, polar
 //!   angle from the front normal in [0, 180] (above 90 is the back side) and azimuth;
-//! - `#upphi U`: rotates every azimuth alike, which an isotropic BSDF ignores;
 //! - `#colorimetry: CIE-Y` (one value per line, the default) or `CIE-XYZ` (three, of which the
 //!   Y, photometric, value is used).
+//!
+//! `#upphi U`, the azimuth of the sample's "up", is one of the lines ignored: `pabopto2bsdf`
+//! adds `90 - U` to every azimuth of the file (incident and scattered) to put up on Radiance's
+//! +y, a rotation that an isotropic BSDF does not see, so stfit takes the azimuths as written.
+//! The files [`write_pabopto`] writes say `#upphi 90`, so that Radiance's azimuths are theirs.
 //!
 //! Each of these lines may appear once, except that `#intheta` and `#inphi` may come with an
 //! `#incident_angle` that gives the same angles (as Radiance's `pabopto2xyz` writes them).
 //! The front side is stfit's outside (+z), so the angles are those of a general measurement
-//! file (`data-format.md`); every scattered direction of a file lies on one side.
+//! file (`data-format.md`); every scattered direction of a file lies on one side. These are
+//! Radiance's conventions too (`pabopto2bsdf` without `-t`): both directions are
+//! `(sin theta cos phi, sin theta sin phi, cos theta)` pointing away from the surface, the
+//! incident one toward the light, `theta < 90` on its front (+z) side, so a specular peak lies
+//! at `phi + 180`.
 
 use crate::pairs::format_number;
 use std::io::Write;
@@ -419,7 +427,9 @@ pub fn write_pabopto(
                 writeln!(head, "#format: theta phi {}", form.name())?;
                 writeln!(head, "#intheta {}", format_number(theta_i_deg))?;
                 writeln!(head, "#inphi {}", format_number(phi_i_deg))?;
-                writeln!(head, "#upphi 0")?;
+                // Up at azimuth 90: pabopto2bsdf's rotation `90 - upphi` is then 0, and
+                // Radiance's azimuths are stfit's.
+                writeln!(head, "#upphi 90")?;
                 writeln!(head, "#colorimetry: CIE-Y")?;
                 files.push((key, head));
                 files.len() - 1

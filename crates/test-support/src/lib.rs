@@ -206,6 +206,9 @@ pub struct Radiance {
     pub bin: PathBuf,
     /// Radiance's library folder (for `RAYPATH`).
     pub lib: PathBuf,
+    /// The Python interpreter of the environment, and the folder to put on `PYTHONPATH` (the
+    /// one holding the `pyradiance` package) for `import pyradiance` to work.
+    python: (PathBuf, PathBuf),
 }
 
 impl Radiance {
@@ -218,6 +221,15 @@ impl Radiance {
         paths.extend(std::env::split_paths(&path));
         cmd.env("PATH", std::env::join_paths(paths).expect("a valid PATH"));
         cmd.env("RAYPATH", format!(".:{}", self.lib.display()));
+        cmd
+    }
+
+    /// A Python command that can `import pyradiance` (whose `pyradiance.bsdf` module is
+    /// Radiance's BSDF library: `bsdf.load_file`, `bsdf.query`, ...).
+    pub fn python(&self) -> Command {
+        let (python, site) = &self.python;
+        let mut cmd = Command::new(python);
+        cmd.env("PYTHONPATH", site);
         cmd
     }
 }
@@ -240,10 +252,25 @@ pub fn radiance(test: &str) -> Option<Radiance> {
         .chain([env.join("site/pyradiance")])
         .find(|p| p.join("bin/pabopto2bsdf").is_file() && p.join("bin/checkBSDF").is_file());
     match found {
-        Some(p) => Some(Radiance {
-            bin: p.join("bin"),
-            lib: p.join("lib"),
-        }),
+        Some(p) => {
+            let site = p
+                .parent()
+                .expect("pyradiance's folder has a parent")
+                .to_path_buf();
+            // The virtual environment's own interpreter, else (`pip install --target`) the
+            // Python 3 that installed it.
+            let venv_python = env.join("bin/python");
+            let python = if venv_python.is_file() {
+                venv_python
+            } else {
+                PathBuf::from("python3")
+            };
+            Some(Radiance {
+                bin: p.join("bin"),
+                lib: p.join("lib"),
+                python: (python, site),
+            })
+        }
         None => {
             assert!(
                 !under_ci(),
