@@ -517,13 +517,35 @@ fn unknown_key<'v>(object: &'v serde_json::Value, known: &[&str]) -> Option<&'v 
 fn unknown_fit_key(record: &serde_json::Value, fit: &FitResult) -> Option<String> {
     let written = serde_json::to_value(fit).expect("fits are plain data and serialise");
     let known: Vec<&str> = written.as_object()?.keys().map(String::as_str).collect();
-    unknown_key(record, &known).map(|key| {
-        format!(
+    if let Some(key) = unknown_key(record, &known) {
+        return Some(format!(
             "unknown key \"{}\" (fits-format.md lists the keys of a fit of version \
              {FITS_VERSION})",
             crate::data::short(key)
-        )
-    })
+        ));
+    }
+    // Each warning has the keys of its kind, written back the same way.
+    let warnings = record.get("warnings")?.as_array()?;
+    warnings
+        .iter()
+        .zip(&fit.warnings)
+        .enumerate()
+        .find_map(|(k, (w, warning))| {
+            let written = serde_json::to_value(warning).expect("warnings serialise");
+            let known: Vec<&str> = written.as_object()?.keys().map(String::as_str).collect();
+            unknown_key(w, &known).map(|key| {
+                format!(
+                    "unknown key \"{}\" in warning {k} (a {} warning has the keys {})",
+                    crate::data::short(key),
+                    written["kind"].as_str().unwrap_or("?"),
+                    known
+                        .iter()
+                        .map(|k| format!("\"{k}\""))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            })
+        })
 }
 
 /// The index of the first record of `file`'s `fits` array that is not a [`FitResult`], and
@@ -629,6 +651,27 @@ mod tests {
             assert!(
                 err.starts_with("f.json: fit 0 (sample 's', student-t): unknown key")
                     && err.contains(&format!("\"{key}\"")),
+                "{err}"
+            );
+        }
+        // Inside a warning too: each kind has its own keys and no others.
+        for (warning, key) in [
+            (r#"{"kind": "singular-curvature", "note": "x"}"#, "note"),
+            (
+                r#"{"kind": "at-bound", "parameter": "alpha", "bound": 20.0, "side": 1}"#,
+                "side",
+            ),
+        ] {
+            let mut v: serde_json::Value = serde_json::from_str(&with("eta", "1.51")).unwrap();
+            v["fits"][0]["warnings"] = serde_json::from_str(&format!("[{warning}]")).unwrap();
+            let err = FitsFile::from_json("f.json", &v.to_string())
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.starts_with(&format!(
+                    "f.json: fit 0 (sample 's', student-t): unknown key \"{key}\" in warning 0 \
+                     (a "
+                )),
                 "{err}"
             );
         }
