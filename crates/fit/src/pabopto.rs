@@ -32,7 +32,7 @@ use crate::pairs::format_number;
 use std::io::Write;
 use std::path::Path;
 
-use crate::conventions::{THETA_RANGE, spherical_from_deg, theta_in_range};
+use crate::conventions::{THETA_RANGE, reduced_azimuth_deg, spherical_from_deg, theta_in_range};
 use crate::data::{Measurement, Sample};
 use crate::load::{LoadError, LoadErrorKind, parse_finite};
 
@@ -185,8 +185,8 @@ impl Header {
             Key::SampleName => self.name = Some(sample_name(rest).map_err(err)?),
             Key::Format => self.form = Some(value_form(rest).map_err(err)?),
             Key::Colorimetry => self.values = Some(colorimetry(rest).map_err(err)?),
-            Key::InTheta => give(source, &mut self.theta_i, polar(rest.trim())?)?,
-            Key::InPhi => give(source, &mut self.phi_i, given(rest.trim())?)?,
+            Key::InTheta => give(source, &mut self.theta_i, polar(rest.trim())?, f64::eq)?,
+            Key::InPhi => give(source, &mut self.phi_i, given(rest.trim())?, same_azimuth)?,
             Key::IncidentAngle => {
                 let words: Vec<&str> = rest.split_whitespace().collect();
                 let [t, p] = words.as_slice() else {
@@ -196,8 +196,8 @@ impl Header {
                     }));
                 };
                 let (t, p) = (polar(t)?, given(p)?);
-                give(source, &mut self.theta_i, t)?;
-                give(source, &mut self.phi_i, p)?;
+                give(source, &mut self.theta_i, t, f64::eq)?;
+                give(source, &mut self.phi_i, p, same_azimuth)?;
             }
         }
         Ok(())
@@ -209,11 +209,22 @@ impl Header {
     }
 }
 
-/// Sets the incident angle in `slot` to `new`, refusing another value than the one an
-/// earlier header line gave.
-fn give(source: &Path, slot: &mut Option<Given>, new: Given) -> Result<(), LoadError> {
+/// Whether two azimuths in degrees are the same direction: equal after reduction by whole
+/// turns ([`reduced_azimuth_deg`]: `360` and `0`, `-90` and `270`).
+fn same_azimuth(a: &f64, b: &f64) -> bool {
+    reduced_azimuth_deg(*a) == reduced_azimuth_deg(*b)
+}
+
+/// Sets the incident angle in `slot` to `new`, refusing a value that is not `same` as the one
+/// an earlier header line gave.
+fn give(
+    source: &Path,
+    slot: &mut Option<Given>,
+    new: Given,
+    same: fn(&f64, &f64) -> bool,
+) -> Result<(), LoadError> {
     match *slot {
-        Some(old) if old.value != new.value => Err(error(
+        Some(old) if !same(&old.value, &new.value) => Err(error(
             source,
             new.line,
             &new.key.column(),
@@ -635,6 +646,11 @@ mod tests {
         );
         let (_, pts) = read(&format!("{head}#incident_angle 30 0\n150 0 1\n")).unwrap();
         assert_eq!(pts[0].spherical_angles().unwrap().0, (30.0, 0.0));
+        // Azimuths a whole turn apart are the same incidence (data-format.md).
+        for phi in ["360", "-360", "720"] {
+            let (_, pts) = read(&format!("{head}#incident_angle 30 {phi}\n150 0 1\n")).unwrap();
+            assert_eq!(pts[0].spherical_angles().unwrap().0, (30.0, 0.0), "{phi}");
+        }
     }
 
     /// A sample name is trimmed and must not be empty, as a CSV file's `sample` field; an
