@@ -161,10 +161,13 @@ fn synth_noise_is_relative_with_the_requested_sigma() {
     assert!(mean.abs() < 4.0 * 0.05 / n.sqrt(), "relative mean {mean}");
 }
 
+/// `--append` puts several samples in one file with one header, starting from an empty file;
+/// a file with another header is refused and left alone.
 #[test]
 fn synth_append_puts_several_samples_in_one_file() {
     let dir = CaseDir::new("append");
-    let file = dir.join("three.csv");
+    // An empty file (made by `touch`, say) is appended to as a new one: header first.
+    let file = dir.file("three.csv", "");
     for (name, alpha) in [("frosted", "0.2"), ("etched", "0.1"), ("ground", "0.4")] {
         stfit_ok(&[
             "synth",

@@ -283,9 +283,9 @@ impl SynthSpec {
 }
 
 /// Writes `samples` with `comment` to the file at `path`: replacing it, or with `append`
-/// adding the rows to it (creating it if needed; an existing file must be a regular file,
-/// start with the header [`write_csv`] writes, read by the loader's rules, and end with a line
-/// break).
+/// adding the rows to it (creating it if needed, or writing it whole if it is empty; an
+/// existing file must be a regular file, start with the header [`write_csv`] writes, read by
+/// the loader's rules, and end with a line break).
 pub fn write_file(
     path: &Path,
     samples: &[Sample],
@@ -293,7 +293,9 @@ pub fn write_file(
     append: bool,
 ) -> Result<(), SynthError> {
     let display = path.display().to_string();
-    let header = !append || !path.exists();
+    // An empty regular file (made by `touch`) is appended to as a new one, header first.
+    let empty = path.is_file() && std::fs::metadata(path).is_ok_and(|m| m.len() == 0);
+    let header = !append || !path.exists() || empty;
     if !header && !path.is_file() {
         // A device or a pipe would be read to its end to check the header: /dev/full never
         // ends.
