@@ -790,8 +790,10 @@ pub struct FitWalkCost {
 /// a note before a long run: for each fit, the orders >= 2 term at its start (the
 /// single-scattering optimum) timed by a pilot run ([`Forward::walk_seconds`]: random numbers
 /// of its own, at most a sixteenth of one estimate's work), times the fewest estimates the fit
-/// makes ([`fewest_term_estimates`]). A fit usually makes a few times more, so the time is a
-/// lower bound. Zero for single scattering; a sample or model that cannot be fitted counts
+/// makes: with the surrogate term the nodes of one surrogate ([`crate::surrogate`]) and the
+/// estimate at its optimum; with the exact term the first simplex, a step, and at the optimum
+/// its estimate and those of its standard errors. A fit usually makes a few times more, so the
+/// time is a lower bound. Zero for single scattering; a sample or model that cannot be fitted counts
 /// zero (its fit reports why).
 pub fn fit_walk_cost(data: &Dataset, specs: &[ModelSpec], opts: &FitOptions) -> FitWalkCost {
     let mut cost = FitWalkCost {
