@@ -475,3 +475,53 @@ fn a_table_too_large_to_hold_is_refused_before_any_work() {
     assert!(err.contains("25165824 cells"), "{err}");
     assert!(!std::path::Path::new(&out).exists());
 }
+
+/// A table whose random walks take long says so before they start, as the other commands
+/// that run walks do: with 1e9 walks per cell the first line on stderr, read while the run
+/// goes on and then stopped, is the note, in minutes, hours or days; with 1,000 walks there is
+/// none.
+#[test]
+fn a_table_whose_walks_take_long_says_so_before_it_runs() {
+    let dir = CaseDir::new("tables-long-run");
+    let out = file(&dir, "t.csv");
+    let table = |walks: &'static str| {
+        [
+            "tables",
+            "--ndf",
+            "ggx",
+            "--alpha-grid",
+            "0.3,0.6",
+            "--mu-grid",
+            "0.5",
+            "--eta-grid",
+            "1.5",
+            "--orders",
+            "all",
+            "--walks",
+            walks,
+            "--out",
+            &out,
+        ]
+        .map(String::from)
+    };
+    let args = table("1000000000");
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let line = cli()
+        .first_stderr_line(&args, std::time::Duration::from_secs(120))
+        .expect("no line on stderr within 120 s");
+    assert!(
+        line.starts_with(
+            "note: the random walks of the table (1000000000 per cell) will take about "
+        ) && [" min", " h", " days"]
+            .iter()
+            .any(|unit| line.ends_with(&format!(
+                "{unit} (fewer --walks or fewer nodes make it shorter)\n"
+            ))),
+        "{line}"
+    );
+    let args = table("1000");
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let run = cli().run(&args);
+    assert_eq!(run.code, Some(0), "{}", run.stderr);
+    assert!(!run.stderr.contains("note:"), "{}", run.stderr);
+}

@@ -1,7 +1,7 @@
 //! `stfit tables`: directional-albedo (energy-compensation) tables, and `stfit tables merge`.
 //! Argument parsing and printing only; the work is in `stfit-tables`.
 
-use super::{CmdError, CmdResult, OrdersArg, print_stdout, refuse_overwriting_input};
+use super::{CmdError, CmdResult, OrdersArg, long_run, print_stdout, refuse_overwriting_input};
 use clap::{Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -239,6 +239,14 @@ fn compute_table(a: &TableArgs) -> CmdResult {
         Naming::Flags,
     )
     .map_err(spec_error)?;
+    long_run::note_if_long(
+        plan.walk_seconds().map_err(spec_error)?,
+        &format!(
+            "the random walks of the table ({} per cell)",
+            plan.spec.walks
+        ),
+        "fewer --walks or fewer nodes make it shorter",
+    );
     let bar = progress_bar(plan.work_units());
     let progress = |n| {
         if let Some(bar) = &bar {

@@ -17,8 +17,10 @@ use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
 use stfit_core::Vec3;
-use stfit_core::ndf::{Beckmann, Ggx, Ndf, StudentT};
-use stfit_core::walk::{DielectricFacet, Estimator, Facet, Microsurface, ScatteringOrders};
+use stfit_core::ndf::{Beckmann, Ggx, StudentT};
+use stfit_core::walk::{
+    DielectricFacet, Estimator, Microsurface, ScatteringOrders, WalkCost, pilot_seed,
+};
 
 /// A Monte Carlo estimate and its standard error.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -116,6 +118,42 @@ impl fmt::Display for Shard {
 pub fn work_units(spec: &TableSpec, shard: Shard) -> u64 {
     let per_line = 1 + spec.mu.len() as u64;
     shard.lines(spec.lines()).count() as u64 * per_line
+}
+
+/// Lines whose walks a pilot run times ([`walk_seconds`]), spread evenly over a shard.
+pub const PILOT_LINES: usize = 8;
+
+/// Estimated wall time, in seconds, on rayon's current pool, of the random walks of the cells
+/// of `shard` (0 for single scattering), for a note before a long run: a pilot run
+/// ([`WalkCost::measure`], random numbers of its own, at most a sixteenth of a cell's walks) of
+/// the walks of the middle `mu` of at most [`PILOT_LINES`] lines spread evenly over the shard;
+/// their mean time per walk times `spec.walks` walks of every cell.
+pub fn walk_seconds(spec: &TableSpec, shard: Shard) -> Result<f64, SpecError> {
+    let lines: Vec<usize> = shard.lines(spec.lines()).collect();
+    if spec.orders == ScatteringOrders::Single || lines.is_empty() {
+        return Ok(0.0);
+    }
+    let mu = spec.mu.values[spec.mu.values.len() / 2];
+    let picked: Vec<usize> = lines
+        .iter()
+        .copied()
+        .step_by(lines.len().div_ceil(PILOT_LINES))
+        .collect();
+    let mut seconds = 0.0;
+    for &i in &picked {
+        let line = spec.line(i);
+        let cost = with_ndf(spec, line, |n| {
+            let ms = n.walk_surface(spec, line)?;
+            Ok::<_, SpecError>(WalkCost::measure(
+                &*ms,
+                spec.wi(line, mu),
+                spec.walks,
+                pilot_seed(spec.seed),
+            ))
+        })??;
+        seconds += cost.seconds(spec.walks);
+    }
+    Ok(seconds / picked.len() as f64 * (lines.len() * spec.mu.values.len()) as f64)
 }
 
 /// Computes the lines of `shard`, in order, calling `progress(1)` after each unit of
@@ -252,7 +290,9 @@ fn with_ndf<T>(
 trait AnyTableNdf {
     fn single(&self, i: Interface, m: TableMasking, mu: f64, rule: &Quadrature) -> Albedo;
     fn average(&self, i: Interface, m: TableMasking, rule: &Quadrature) -> Albedo;
-    fn walks(&self, spec: &TableSpec, line: Line, wi: Vec3) -> Result<WalkAlbedo, SpecError>;
+    /// The microsurface of the line whose walks give its cells' orders >= 2
+    /// ([`multiple_scattering`]).
+    fn walk_surface(&self, spec: &TableSpec, line: Line) -> Result<Box<dyn Estimator>, SpecError>;
 }
 
 impl<N: TableNdf + Copy + 'static> AnyTableNdf for N {
@@ -262,7 +302,8 @@ impl<N: TableNdf + Copy + 'static> AnyTableNdf for N {
     fn average(&self, i: Interface, m: TableMasking, rule: &Quadrature) -> Albedo {
         single::average(self, i, m, rule)
     }
-    fn walks(&self, spec: &TableSpec, line: Line, wi: Vec3) -> Result<WalkAlbedo, SpecError> {
+    fn walk_surface(&self, spec: &TableSpec, line: Line) -> Result<Box<dyn Estimator>, SpecError> {
+        let orders = ScatteringOrders::Multiple;
         Ok(match spec.surface {
             Surface::Dielectric => {
                 let eta = spec
@@ -270,10 +311,10 @@ impl<N: TableNdf + Copy + 'static> AnyTableNdf for N {
                     .ok_or_else(|| SpecError::Invalid("a dielectric needs an eta axis".into()))?;
                 let facet = DielectricFacet::new(eta)
                     .map_err(|e| SpecError::Invalid(format!("eta: {e}")))?;
-                multiple_scattering(*self, facet, wi, spec)
+                Box::new(Microsurface::new(*self, facet).with_orders(orders))
             }
             Surface::Conductor { .. } | Surface::Mirror => {
-                multiple_scattering(*self, spec.conductor()?, wi, spec)
+                Box::new(Microsurface::new(*self, spec.conductor()?).with_orders(orders))
             }
         })
     }
@@ -287,21 +328,16 @@ struct WalkAlbedo {
     truncated: f64,
 }
 
-/// Estimates the flux that walks on the microsurface send back and through after two or more
-/// scattering events, from `spec.walks` walks seeded with `spec.seed`. A walk leaves on one
+/// Estimates the flux that walks on the microsurface `ms` (orders >= 2,
+/// [`AnyTableNdf::walk_surface`]) send back and through after two or more scattering events,
+/// from `spec.walks` walks from `wi` seeded with `spec.seed`. A walk leaves on one
 /// side only, so the per-walk reflected and transmitted weights have product zero and the
 /// standard error of their sum follows from theirs: `se_E^2 = se_R^2 + se_T^2 - 2 R T / (n - 1)`.
 ///
 /// Walk weights are at most 1, and where few walks contribute the sample variance understates
 /// the error (with none it is 0): every standard error is kept at least `1 / n`, that of one
 /// walk of weight 1 among `n`, except for the transmission of opaque facets, which is exactly 0.
-fn multiple_scattering<N: Ndf, F: Facet>(
-    ndf: N,
-    facet: F,
-    wi: Vec3,
-    spec: &TableSpec,
-) -> WalkAlbedo {
-    let ms = Microsurface::new(ndf, facet).with_orders(ScatteringOrders::Multiple);
+fn multiple_scattering(ms: &dyn Estimator, wi: Vec3, spec: &TableSpec) -> WalkAlbedo {
     let a = ms.albedo(wi, spec.walks, spec.seed);
     let n = a.walks as f64;
     let var_e = if n > 1.0 {
@@ -353,7 +389,8 @@ fn cell(
         let walk = match spec.orders {
             ScatteringOrders::Single => None,
             orders => {
-                let ms = n.walks(spec, line, spec.wi(line, mu))?;
+                let ms =
+                    multiple_scattering(&*n.walk_surface(spec, line)?, spec.wi(line, mu), spec);
                 // All orders: the walks' first order is the height-correlated albedo.
                 let first = match orders {
                     ScatteringOrders::All if spec.masking == TableMasking::Correlated => single,

@@ -386,6 +386,12 @@ impl Plan {
         work_units(&self.spec, self.part())
     }
 
+    /// Estimated wall time, in seconds, of the plan's random walks, for a note before a long
+    /// run ([`compute::walk_seconds`]); 0 for single scattering.
+    pub fn walk_seconds(&self) -> Result<f64, SpecError> {
+        compute::walk_seconds(&self.spec, self.part())
+    }
+
     /// Computes the lines of the plan, calling `progress(1)` after each unit of
     /// [`Plan::work_units`] (from any thread), with the default quadrature.
     pub fn run(self, progress: &(dyn Fn(u64) + Sync)) -> Result<Run, SpecError> {
