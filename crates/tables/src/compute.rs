@@ -24,6 +24,7 @@ use stfit_core::walk::{
 
 /// A Monte Carlo estimate and its standard error.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Value {
     pub mean: f64,
     pub stderr: f64,
@@ -33,6 +34,7 @@ pub struct Value {
 /// height-correlated single-scattering albedo plus the walks' orders >= 2), reflected,
 /// transmitted and in total.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct WalkResult {
     pub reflected: Value,
     pub transmitted: Value,
@@ -44,6 +46,7 @@ pub struct WalkResult {
 
 /// One cell: the single-scattering albedo and, when walks were asked for, what they give.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct CellResult {
     pub single: Albedo,
     pub walk: Option<WalkResult>,
@@ -52,6 +55,7 @@ pub struct CellResult {
 /// One line: the cosine-weighted average of the single-scattering albedo and the cells, in
 /// the order of the mu axis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct LineResult {
     /// The line's index.
     pub index: usize,
@@ -68,6 +72,7 @@ pub struct Table {
 
 /// Slice `index` (1-based) of `count` of a table: the lines `i` with `i % count == index - 1`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Shard {
     pub index: usize,
     pub count: usize,

@@ -62,6 +62,7 @@ impl Mapping {
 
 /// The nodes of one axis: the parameters `x` and the tabulated values `mapping(x)`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Axis {
     pub mapping: Mapping,
     pub params: Vec<f64>,

@@ -159,6 +159,7 @@ impl TableMasking {
 
 /// Fractions of the incident flux a BSDF reflects and transmits.
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Albedo {
     pub reflected: f64,
     pub transmitted: f64,

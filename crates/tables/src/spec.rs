@@ -108,6 +108,7 @@ pub use stfit_core::walk::MAX_WALKS;
 
 /// A table to compute.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct TableSpec {
     pub family: Family,
     pub surface: Surface,

@@ -153,6 +153,41 @@ fn shards_merged_equal_one_run_byte_for_byte() {
     assert!(err.starts_with("junk.json: not a shard file"), "{err}");
 }
 
+/// A shard file with a key its format does not define (at the top, in the specification, its
+/// surface or an axis, in a line, in a cell) is refused, naming the file and the key, as fits files refuse
+/// theirs: a misspelt key would otherwise read as nothing. A leading byte-order mark is
+/// skipped, as in fits files.
+#[test]
+fn shard_files_refuse_unknown_keys_and_skip_a_byte_order_mark() {
+    let s = spec(Family::Ggx, ScatteringOrders::Single);
+    let sh = Shard { index: 1, count: 1 };
+    let lines = compute::compute(&s, sh, &Quadrature::default(), &|_| {}).unwrap();
+    let text = shard::write(&s, sh, &lines).unwrap();
+    let whole = shard::merge(&[("s.json".into(), text.clone())]).unwrap();
+    let with_bom = shard::merge(&[("s.json".into(), format!("\u{feff}{text}"))]).unwrap();
+    assert_eq!(Format::Csv.write(&with_bom), Format::Csv.write(&whole));
+    let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let edits: [fn(&mut serde_json::Value); 6] = [
+        |v| v["comment"] = 1.into(),
+        |v| v["spec"]["surface"]["comment"] = 1.into(),
+        |v| v["spec"]["comment"] = 1.into(),
+        |v| v["spec"]["alpha"]["comment"] = 1.into(),
+        |v| v["lines"][0]["comment"] = 1.into(),
+        |v| v["lines"][0]["cells"][0]["comment"] = 1.into(),
+    ];
+    for (k, edit) in edits.into_iter().enumerate() {
+        let mut v = value.clone();
+        edit(&mut v);
+        let err = shard::merge(&[("s.json".into(), v.to_string())])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.starts_with("s.json: not a shard file") && err.contains("unknown field `comment`"),
+            "edit {k}: {err}"
+        );
+    }
+}
+
 /// A shard whose count is far beyond the table's lines (an edited file) is refused, naming the
 /// file, before anything is sized by that count: a count of 1e18 had panicked ("capacity
 /// overflow").

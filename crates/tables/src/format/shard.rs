@@ -20,6 +20,7 @@ pub const TOLERANCE: f64 = 1e-5;
 
 /// The contents of a shard file.
 #[derive(Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 struct ShardFile {
     format: String,
     version: u32,
@@ -59,10 +60,33 @@ pub fn merge(files: &[(String, String)]) -> Result<Table, ShardError> {
             file: name.clone(),
             message,
         };
+        // A leading byte-order mark is skipped, as the fits reader does.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let file: ShardFile = serde_json::from_str(text).map_err(|e| ShardError::Parse {
             file: name.clone(),
             message: format!("not a shard file of stfit tables: {e}"),
         })?;
+        // The surface is an internally tagged enum, whose extra keys serde's
+        // deny_unknown_fields does not see: its keys are those it writes back.
+        let read: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| ShardError::Parse {
+                file: name.clone(),
+                message: format!("not a shard file of stfit tables: {e}"),
+            })?;
+        let known = serde_json::to_value(file.spec.surface).map_err(|e| ShardError::Parse {
+            file: name.clone(),
+            message: e.to_string(),
+        })?;
+        if let (Some(given), Some(known)) = (read["spec"]["surface"].as_object(), known.as_object())
+            && let Some(key) = given.keys().find(|k| !known.contains_key(*k))
+        {
+            return Err(ShardError::Parse {
+                file: name.clone(),
+                message: format!(
+                    "not a shard file of stfit tables: unknown field `{key}` in spec.surface"
+                ),
+            });
+        }
         if file.format != FORMAT || file.version != VERSION {
             return Err(mismatch(format!(
                 "format '{}' version {} (expected '{FORMAT}' version {VERSION})",
