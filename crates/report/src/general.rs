@@ -221,9 +221,8 @@ fn panel_of<'a>(
     members: &[Vec<&Measurement>],
     y: YScale,
 ) -> Result<GeneralPanel<'a>, ReportError> {
-    fit.check().map_err(|e| ReportError::invalid_fit(fit, e))?;
+    let ndf = crate::view::drawable_ndf(fit)?;
     let invalid = |e| ReportError::invalid_fit(fit, e);
-    let ndf = fit.model.ndf().map_err(invalid)?;
     let xs = curve_xs();
     let values = fit
         .model

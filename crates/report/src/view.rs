@@ -196,9 +196,8 @@ fn panel_view<'a>(
     range: (f64, f64),
     opts: &ReportOptions,
 ) -> Result<PanelView<'a>, ReportError> {
-    fit.check().map_err(|e| ReportError::invalid_fit(fit, e))?;
+    let ndf = drawable_ndf(fit)?;
     let invalid = |e| ReportError::invalid_fit(fit, e);
-    let ndf = fit.model.ndf().map_err(invalid)?;
     let points = panel_points(groups, range);
     let l = fit.model.predict_points(&points).map_err(invalid)?;
     let y = opts.y_scale;
@@ -232,6 +231,15 @@ fn panel_view<'a>(
         residuals,
         sq_sum: (sum_sq, n),
     })
+}
+
+/// The NDF of `fit`, for drawing its panel: refused ([`ReportError::invalid_fit`]) when its
+/// record is not one a fit writes ([`FitResult::check`]) or its model cannot be evaluated.
+pub(crate) fn drawable_ndf(fit: &FitResult) -> Result<AnyNdf, ReportError> {
+    fit.check().map_err(|e| ReportError::invalid_fit(fit, e))?;
+    fit.model
+        .ndf()
+        .map_err(|e| ReportError::invalid_fit(fit, e))
 }
 
 /// A stored fit whose model cannot be evaluated (parameters outside the supported ranges, say,
