@@ -60,32 +60,23 @@ pub fn merge(files: &[(String, String)]) -> Result<Table, ShardError> {
             file: name.clone(),
             message,
         };
+        let unreadable = |message: String| ShardError::Parse {
+            file: name.clone(),
+            message: format!("not a shard file of stfit tables: {message}"),
+        };
         // A leading byte-order mark is skipped, as the fits reader does.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let file: ShardFile = serde_json::from_str(text).map_err(|e| ShardError::Parse {
-            file: name.clone(),
-            message: format!("not a shard file of stfit tables: {e}"),
-        })?;
+        let file: ShardFile = serde_json::from_str(text).map_err(|e| unreadable(e.to_string()))?;
         // The surface is an internally tagged enum, whose extra keys serde's
         // deny_unknown_fields does not see: its keys are those it writes back.
         let read: serde_json::Value =
-            serde_json::from_str(text).map_err(|e| ShardError::Parse {
-                file: name.clone(),
-                message: format!("not a shard file of stfit tables: {e}"),
-            })?;
-        let known = serde_json::to_value(file.spec.surface).map_err(|e| ShardError::Parse {
-            file: name.clone(),
-            message: e.to_string(),
-        })?;
+            serde_json::from_str(text).map_err(|e| unreadable(e.to_string()))?;
+        let known =
+            serde_json::to_value(file.spec.surface).map_err(|e| unreadable(e.to_string()))?;
         if let (Some(given), Some(known)) = (read["spec"]["surface"].as_object(), known.as_object())
             && let Some(key) = given.keys().find(|k| !known.contains_key(*k))
         {
-            return Err(ShardError::Parse {
-                file: name.clone(),
-                message: format!(
-                    "not a shard file of stfit tables: unknown field `{key}` in spec.surface"
-                ),
-            });
+            return Err(unreadable(format!("unknown field `{key}` in spec.surface")));
         }
         if file.format != FORMAT || file.version != VERSION {
             return Err(mismatch(format!(
