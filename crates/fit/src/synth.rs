@@ -294,7 +294,7 @@ pub fn write_file(
 ) -> Result<(), SynthError> {
     let display = path.display().to_string();
     // An empty regular file (made by `touch`) is appended to as a new one, header first.
-    let empty = path.is_file() && std::fs::metadata(path).is_ok_and(|m| m.len() == 0);
+    let empty = std::fs::metadata(path).is_ok_and(|m| m.is_file() && m.len() == 0);
     let header = !append || !path.exists() || empty;
     if !header && !path.is_file() {
         // A device or a pipe would be read to its end to check the header: /dev/full never
