@@ -471,20 +471,27 @@ fn samples_from_records(
     let mut index: HashMap<String, usize> = HashMap::new();
     // Line of each sample's first row, to place a sample-wide error.
     let mut first_line: Vec<u64> = Vec::new();
+    // The sample of the previous row: rows of one sample usually follow each other, so most
+    // rows need neither a lookup nor a copy of their name.
+    let mut last: Option<usize> = None;
     for (line, record) in records {
         let (name, point) = header.row(source, line, &record)?;
-        let slot = match index.get(&name) {
-            Some(&i) => i,
-            None => {
-                index.insert(name.clone(), samples.len());
-                samples.push(Sample {
-                    name,
-                    points: Vec::new(),
-                });
-                first_line.push(line);
-                samples.len() - 1
-            }
+        let slot = match last.filter(|&i| samples[i].name == name) {
+            Some(i) => i,
+            None => match index.get(name) {
+                Some(&i) => i,
+                None => {
+                    index.insert(name.to_owned(), samples.len());
+                    samples.push(Sample {
+                        name: name.to_owned(),
+                        points: Vec::new(),
+                    });
+                    first_line.push(line);
+                    samples.len() - 1
+                }
+            },
         };
+        last = Some(slot);
         samples[slot].points.push(point);
     }
     if let Some(problem) = pending {
@@ -900,12 +907,12 @@ impl Header {
     /// Validates one data row into its sample name and measurement: every recognised field
     /// as `data-format.md` says, and a `sqrt_L` whose square `L` overflows, or underflows to 0
     /// while it is not 0, refused.
-    fn row(
+    fn row<'r>(
         &self,
         source: &Path,
         line: u64,
-        record: &csv::ByteRecord,
-    ) -> Result<(String, Measurement), LoadError> {
+        record: &'r csv::ByteRecord,
+    ) -> Result<(&'r str, Measurement), LoadError> {
         let err = |column: &str, kind| LoadError::new(source, Some(line), Some(column), kind);
         if record.len() > self.len {
             return Err(err(
@@ -927,7 +934,7 @@ impl Header {
                 },
             ));
         }
-        let mut name = String::new();
+        let mut name = "";
         let (mut theta_i, mut phi_i, mut theta_o, mut phi_o) = (0.0, 0.0, 0.0, 0.0);
         let (mut value, mut weight) = (0.0, 1.0);
         for &(i, role) in &self.columns {
@@ -936,7 +943,7 @@ impl Header {
                 if fields[i].is_empty() {
                     return Err(err(COL_SAMPLE, LoadErrorKind::EmptySampleName));
                 }
-                fields[i].clone_into(&mut name);
+                name = fields[i];
                 continue;
             }
             let x = parse_finite(fields[i]).map_err(|kind| err(column, kind))?;
