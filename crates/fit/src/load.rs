@@ -3,6 +3,7 @@
 //! Every problem is a [`LoadError`] that names the file, and where they apply the line and the
 //! column, so that a user can go straight to the bad field.
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -538,7 +539,7 @@ pub(crate) fn records_until_quote_problem(
         .has_headers(false)
         .flexible(true)
         .terminator(csv::Terminator::Any(b'\n'))
-        .from_reader(bytes.as_slice());
+        .from_reader(&*bytes);
     let mut lines = LineCounter::new(&bytes);
     let mut out = Vec::new();
     for record in reader.byte_records() {
@@ -643,19 +644,26 @@ pub(crate) fn header_list(names: &[String]) -> String {
 
 /// A record that is one whitespace-only field: an empty or blank line.
 fn is_blank(record: &csv::ByteRecord) -> bool {
-    record.len() == 1
-        && record[0]
-            .iter()
-            .all(|&b| FIELD_SPACE.contains(&char::from(b)))
+    record.len() == 1 && record[0].iter().all(|b| FIELD_SPACE.contains(b))
 }
 
 /// What is removed around every field and header name (`data-format.md`): spaces and tabs,
 /// and the `\r` of a `\r\n` line end. Other whitespace (a no-break space) is part of the field.
-const FIELD_SPACE: [char; 3] = [' ', '\t', '\r'];
+const FIELD_SPACE: [u8; 3] = [b' ', b'\t', b'\r'];
 
-/// `field` without the [`FIELD_SPACE`] around it.
+/// `field` without the [`FIELD_SPACE`] around it. The bytes removed are ASCII, so the ends
+/// kept are character boundaries.
 fn trim_field(field: &str) -> &str {
-    field.trim_matches(FIELD_SPACE)
+    let bytes = field.as_bytes();
+    let start = bytes
+        .iter()
+        .position(|b| !FIELD_SPACE.contains(b))
+        .unwrap_or(bytes.len());
+    let end = bytes
+        .iter()
+        .rposition(|b| !FIELD_SPACE.contains(b))
+        .map_or(start, |i| i + 1);
+    &field[start..end]
 }
 
 /// Converts the positions of records, met in file order, to 1-based line numbers.
@@ -704,8 +712,12 @@ impl<'a> LineCounter<'a> {
 /// Empties every comment line (a line whose first byte is `#`, outside a quoted field),
 /// keeping its line break so that the CSV reader's line numbers stay those of the file, and
 /// finds the first quoted field that RFC 4180 does not allow: text after its closing quote
-/// (whitespace aside), or no closing quote. The bytes end at that problem.
-fn strip_comments(bytes: &[u8]) -> (Vec<u8>, Option<QuoteProblem>) {
+/// (whitespace aside), or no closing quote. The bytes end at that problem. A text with
+/// neither `#` nor `"` has no comment and no quoted field: it is returned as it is, uncopied.
+fn strip_comments(bytes: &[u8]) -> (Cow<'_, [u8]>, Option<QuoteProblem>) {
+    if !bytes.iter().any(|&b| b == b'#' || b == b'"') {
+        return (Cow::Borrowed(bytes), None);
+    }
     #[derive(Clone, Copy)]
     enum State {
         LineStart,
@@ -746,7 +758,7 @@ fn strip_comments(bytes: &[u8]) -> (Vec<u8>, Option<QuoteProblem>) {
             (State::QuoteInQuoted | State::AfterQuoted, _) => {
                 let kind = LoadErrorKind::TextAfterQuote;
                 return (
-                    out,
+                    Cow::Owned(out),
                     Some(QuoteProblem {
                         line: row_line,
                         field,
@@ -764,7 +776,7 @@ fn strip_comments(bytes: &[u8]) -> (Vec<u8>, Option<QuoteProblem>) {
         field,
         kind: LoadErrorKind::UnterminatedQuote,
     });
-    (out, problem)
+    (Cow::Owned(out), problem)
 }
 
 /// Which value column the file gives.
@@ -1016,8 +1028,12 @@ pub(crate) fn parse_finite(text: &str) -> Result<f64, LoadErrorKind> {
         return Err(LoadErrorKind::NonFinite(text.to_owned()));
     }
     // A zero read from digits that are not all zero (the exponent aside) underflowed.
-    let significand = text.split(['e', 'E']).next().unwrap_or_default();
-    if x == 0.0 && significand.bytes().any(|b| matches!(b, b'1'..=b'9')) {
+    if x == 0.0
+        && text
+            .bytes()
+            .take_while(|&b| b != b'e' && b != b'E')
+            .any(|b| matches!(b, b'1'..=b'9'))
+    {
         return Err(LoadErrorKind::Unrepresentable(text.to_owned()));
     }
     Ok(x)
