@@ -24,8 +24,8 @@ fn example_file() -> FitsFile {
     FitsFile::from_json("example", &example_text()).unwrap()
 }
 
-/// A pbrt-v4 export of one GGX fit prints one Material line whose roughness is alpha^2 of the
-/// stored fit (pbrt's default remapping), to 1e-6.
+/// A pbrt-v4 export of one GGX fit prints one named material, `ground_ggx`, whose roughness is
+/// alpha^2 of the stored fit (pbrt's default remapping), to 1e-6.
 #[test]
 fn pbrt_export_of_a_ggx_fit_prints_roughness_alpha_squared() {
     let fits = FitsFile::read(&project_root().join("fits/example-fits.json")).unwrap();
@@ -47,8 +47,13 @@ fn pbrt_export_of_a_ggx_fit_prints_roughness_alpha_squared() {
         "ggx",
     ]);
     let text = run.ok();
-    let lines: Vec<&str> = text.lines().filter(|l| l.starts_with("Material")).collect();
+    let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
     assert_eq!(lines.len(), 1, "{text}");
+    assert!(
+        lines[0].starts_with("MakeNamedMaterial \"ground_ggx\" \"string type\" [ \"dielectric\" ]"),
+        "{}",
+        lines[0]
+    );
     let r: f64 = lines[0]
         .split("\"float roughness\" [ ")
         .nth(1)

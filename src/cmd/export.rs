@@ -67,7 +67,7 @@ pub struct Args {
 pub enum TargetArg {
     /// Mitsuba 3 roughdielectric (XML element and Python dict).
     Mitsuba3,
-    /// pbrt-v4 Material "dielectric" line.
+    /// pbrt-v4 named dielectric material (MakeNamedMaterial).
     #[value(name = "pbrt-v4")]
     PbrtV4,
     /// Blender Cycles Glass and Principled BSDF (Python for Blender).

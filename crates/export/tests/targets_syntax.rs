@@ -148,22 +148,28 @@ fn lex(text: &str) -> Vec<Tok> {
     toks
 }
 
-/// The pbrt-v4 export is one `Material "dielectric"` directive followed by typed parameters
-/// (`"type name" [ values ]`) that pbrt-v4's dielectric defines.
-#[test]
-fn pbrt_v4_line_parses_and_names_only_dielectric_parameters() {
-    let e = targets::export(Target::PbrtV4, &student_t(), "st").unwrap();
-    let toks = lex(&e.files[0].text);
-    assert_eq!(toks[0], Tok::Ident("Material".into()));
-    assert_eq!(toks[1], Tok::Str("dielectric".into()));
-    let mut k = 2;
+/// The parameters of one pbrt-v4 `MakeNamedMaterial` directive from `toks[k]` on: its name,
+/// the names of its parameters after `"string type" [ "dielectric" ]` (each `"type name" [ value
+/// ]` of a type pbrt-v4's dielectric reads), and the index of the next directive.
+fn pbrt_named_dielectric(toks: &[Tok], mut k: usize) -> (String, Vec<String>, usize) {
+    assert_eq!(toks[k], Tok::Ident("MakeNamedMaterial".into()), "at {k}");
+    let Tok::Str(id) = &toks[k + 1] else {
+        panic!("expected the material's name: {:?}", toks[k + 1])
+    };
+    assert_eq!(
+        toks[k + 2..k + 6],
+        [
+            Tok::Str("string type".into()),
+            Tok::Open,
+            Tok::Str("dielectric".into()),
+            Tok::Close
+        ]
+    );
+    k += 6;
     let mut names = Vec::new();
     while k < toks.len() {
         let Tok::Str(decl) = &toks[k] else {
-            panic!(
-                "expected a parameter declaration at token {k}: {:?}",
-                toks[k]
-            )
+            break;
         };
         let mut parts = decl.split_whitespace();
         let (ty, name) = (parts.next().unwrap(), parts.next().unwrap());
@@ -178,7 +184,62 @@ fn pbrt_v4_line_parses_and_names_only_dielectric_parameters() {
         names.push(name.to_string());
         k += 4;
     }
+    (id.clone(), names, k)
+}
+
+/// The pbrt-v4 export is one `MakeNamedMaterial "ID" "string type" [ "dielectric" ]` directive,
+/// named by the fit's identifier, followed by typed parameters (`"type name" [ values ]`) that
+/// pbrt-v4's dielectric defines.
+#[test]
+fn pbrt_v4_line_parses_and_names_only_dielectric_parameters() {
+    let e = targets::export(Target::PbrtV4, &student_t(), "st").unwrap();
+    let toks = lex(&e.files[0].text);
+    let (id, names, end) = pbrt_named_dielectric(&toks, 0);
+    assert_eq!(id, "st");
     assert_eq!(names, ["eta", "roughness", "remaproughness"]);
+    assert_eq!(end, toks.len());
+    assert!(
+        e.files[0]
+            .text
+            .contains("# select it for the shapes that follow with: NamedMaterial \"st\"\n"),
+        "{}",
+        e.files[0].text
+    );
+}
+
+/// Several fits in one pbrt-v4 file define one named material each, under its fit's name, and
+/// no anonymous `Material`: in pbrt-v4 a `Material` directive replaces the current material
+/// (mmp/pbrt-v4, src/pbrt/scene.cpp, `BasicSceneBuilder::Material` sets
+/// `graphicsState.currentMaterialIndex`), so of several fits' `Material` lines only the last
+/// would ever reach a shape, whereas `BasicSceneBuilder::MakeNamedMaterial` (same file) adds
+/// each to the scene's named materials for `NamedMaterial "ID"` (and exits on a name defined
+/// twice, which distinct fit identifiers avoid).
+#[test]
+fn pbrt_v4_file_of_several_fits_defines_one_named_material_per_fit() {
+    let ids = ["frosted_ggx", "frosted_student_t", "etched_beckmann"];
+    let models = [
+        model(ModelKind::Ggx, 0.19, Gamma::NotApplicable),
+        student_t(),
+        model(ModelKind::Beckmann, 0.44, Gamma::NotApplicable),
+    ];
+    let exports: Vec<_> = ids
+        .iter()
+        .zip(&models)
+        .map(|(id, m)| targets::export(Target::PbrtV4, m, id).unwrap())
+        .collect();
+    let joined = targets::join(&exports);
+    assert_eq!(joined.len(), 1);
+    let toks = lex(&joined[0].text);
+    assert!(!toks.contains(&Tok::Ident("Material".into())));
+    let mut k = 0;
+    let mut defined = Vec::new();
+    while k < toks.len() {
+        let (id, names, next) = pbrt_named_dielectric(&toks, k);
+        assert_eq!(names, ["eta", "roughness", "remaproughness"]);
+        defined.push(id);
+        k = next;
+    }
+    assert_eq!(defined, ids);
 }
 
 /// The other XML targets are well-formed too.

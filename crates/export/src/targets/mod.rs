@@ -403,7 +403,7 @@ pub fn export(target: Target, model: &ExportModel, id: &str) -> Result<Export, E
     let reference = || Reference::standard(model);
     match target {
         Target::Mitsuba3 => mitsuba3::export(model, id, &reference()?),
-        Target::PbrtV4 => pbrt_v4::export(model, &reference()?),
+        Target::PbrtV4 => pbrt_v4::export(model, id, &reference()?),
         Target::Cycles => cycles::export(model, id, &reference()?),
         Target::Appleseed => appleseed::export(model, id, &reference()?),
         Target::OpenPbr => openpbr::export(model, id, &reference()?),

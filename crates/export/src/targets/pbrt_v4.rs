@@ -1,13 +1,29 @@
-//! pbrt-v4: a `Material "dielectric"` line.
+//! pbrt-v4: a `MakeNamedMaterial` line of type `dielectric`, named by the fit's identifier.
+//!
+//! A named material, not an anonymous `Material`: pbrt-v4's `Material` directive replaces the
+//! current material (`BasicSceneBuilder::Material`, src/pbrt/scene.cpp), so of several fits'
+//! `Material` lines in one file only the last would reach a shape, whereas each
+//! `MakeNamedMaterial` (`BasicSceneBuilder::MakeNamedMaterial`, same file) defines a material
+//! that `NamedMaterial "ID"` selects; pbrt refuses a name defined twice, and the fits of one
+//! file have distinct identifiers ([`crate::batch`]).
 //!
 //! Conventions from mmp/pbrt-v4: `DielectricMaterial::Create` (src/pbrt/materials.cpp) reads
 //! `eta` (default 1.5), `roughness` (default 0; `uroughness`/`vroughness` override it),
 //! `remaproughness` (default true) and `displacement`; with `remaproughness` true the
 //! Trowbridge-Reitz alpha is `TrowbridgeReitzDistribution::RoughnessToAlpha(roughness) =
 //! sqrt(roughness)` (src/pbrt/util/scattering.h), so stfit writes `roughness = alpha^2` and
-//! states `remaproughness true` explicitly. The BSDF is `DielectricBxDF` (src/pbrt/bxdfs.h):
-//! Walter et al. 2007 with GGX only and `G = 1 / (1 + Lambda(wo) + Lambda(wi))` for reflection
-//! and transmission ([`Smith::LambdaSum`]).
+//! states `remaproughness true` explicitly. The BSDF is `DielectricBxDF` (src/pbrt/bxdfs.h,
+//! `DielectricBxDF::f` in src/pbrt/bxdfs.cpp): Walter et al. 2007 with GGX only and
+//! `G = 1 / (1 + Lambda(wo) + Lambda(wi))` for reflection and transmission
+//! ([`Smith::LambdaSum`]); `eta` is the index below the surface (against the shading normal)
+//! over the index above, stfit's `n_inside / n_outside`, and in radiance mode
+//! (`TransportMode::Radiance`, with pbrt's `wi` toward the light) its transmission carries the
+//! `1 / etap^2` that makes it stfit's radiance-convention BSDF.
+//!
+//! Checked in pbrt-v4 itself (commit 5f7a606, built from source): the example fits' files parse
+//! and render without a warning, and its `DielectricBxDF::f` agrees with stfit's model of the
+//! written parameters to single precision (README, export section);
+//! crates/export/tests/pbrt_v4_bsdf.rs keeps a transcription of that evaluation.
 
 use super::{
     AlphaMap, Export, ExportFile, Family1, Microfacet, provenance, translate_microfacet,
@@ -45,8 +61,8 @@ pub fn family(eta: f64) -> Microfacet {
     }
 }
 
-/// Writes the material line with its comment.
-pub fn export(model: &ExportModel, reference: &Reference) -> Result<Export, ExportError> {
+/// Writes the named material `id` with its comment.
+pub fn export(model: &ExportModel, id: &str, reference: &Reference) -> Result<Export, ExportError> {
     // The reference's own warnings first: incidences it does not resolve.
     let mut warnings = reference.warnings().to_vec();
     let t = translate_microfacet(&family(model.eta()), model, reference, &mut warnings)?;
@@ -60,10 +76,13 @@ pub fn export(model: &ExportModel, reference: &Reference) -> Result<Export, Expo
     let mut notes = provenance(
         model,
         Some(&t),
-        &[&format!(
-            "pbrt-v4 dielectric: remaproughness true (its default), alpha = sqrt(roughness) = {}",
-            roughness.sqrt()
-        )],
+        &[
+            &format!(
+                "pbrt-v4 dielectric: remaproughness true (its default), alpha = sqrt(roughness) = {}",
+                roughness.sqrt()
+            ),
+            &format!("select it for the shapes that follow with: NamedMaterial \"{id}\""),
+        ],
     );
     notes.extend(warning_notes(&warnings));
     let mut text = String::new();
@@ -71,7 +90,7 @@ pub fn export(model: &ExportModel, reference: &Reference) -> Result<Export, Expo
         text.push_str(&format!("# {n}\n"));
     }
     text.push_str(&format!(
-        "Material \"dielectric\" \"float eta\" [ {} ] \"float roughness\" [ {roughness} ] \"bool remaproughness\" [ true ]\n",
+        "MakeNamedMaterial \"{id}\" \"string type\" [ \"dielectric\" ] \"float eta\" [ {} ] \"float roughness\" [ {roughness} ] \"bool remaproughness\" [ true ]\n",
         model.eta()
     ));
     Ok(Export {
