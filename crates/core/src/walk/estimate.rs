@@ -150,14 +150,11 @@ impl Sums {
         self.add_nth(x, n, 1.0 / n);
     }
 
-    /// [`Sums::add`] of the `n`-th value given `inv_n = 1/n`, for many running sums that
-    /// advance together and can share the division.
+    /// [`Sums::add`] of the `n`-th value given `inv_n = 1/n`.
     #[inline]
     fn add_nth(&mut self, x: f64, n: f64, inv_n: f64) {
         self.n = n;
-        let d = x - self.mean;
-        self.mean += d * inv_n;
-        self.m2 += d * (x - self.mean);
+        welford(&mut self.mean, &mut self.m2, x, inv_n);
     }
 
     fn merge(&mut self, o: &Sums) {
@@ -181,6 +178,68 @@ impl Sums {
             mean: self.mean,
             stderr: (var.max(0.0) / self.n.max(1.0)).sqrt(),
         }
+    }
+}
+
+/// Welford's step: the `n`-th value `x` (`inv_n = 1/n`) into a running `mean` and sum of
+/// squared deviations `m2`.
+#[inline(always)]
+fn welford(mean: &mut f64, m2: &mut f64, x: f64, inv_n: f64) {
+    let d = x - *mean;
+    *mean += d * inv_n;
+    *m2 += d * (x - *mean);
+}
+
+/// The [`Sums`] of many quantities that advance together, one value of each per walk, stored
+/// by field (every mean, then every `m2`) so that a walk's update of all of them is vector
+/// arithmetic. A walk that added nothing to any quantity (most walks, toward most targets)
+/// adds its zeros without reading a buffer of them.
+struct ManySums {
+    n: f64,
+    mean: Vec<f64>,
+    m2: Vec<f64>,
+}
+
+impl ManySums {
+    fn new(k: usize) -> Self {
+        Self {
+            n: 0.0,
+            mean: vec![0.0; k],
+            m2: vec![0.0; k],
+        }
+    }
+
+    /// Adds the `n`-th walk's values `acc` (one per quantity) and sets them back to 0, ready
+    /// for the next walk. One division per walk, not per quantity.
+    #[inline]
+    fn add_and_clear(&mut self, n: f64, acc: &mut [f64]) {
+        self.n = n;
+        let inv_n = 1.0 / n;
+        for ((mean, m2), a) in self.mean.iter_mut().zip(&mut self.m2).zip(acc) {
+            welford(mean, m2, *a, inv_n);
+            *a = 0.0;
+        }
+    }
+
+    /// Adds the `n`-th walk with the value 0 for every quantity: [`ManySums::add_and_clear`]
+    /// of a buffer of zeros, bit for bit.
+    #[inline]
+    fn add_zeros(&mut self, n: f64) {
+        self.n = n;
+        let inv_n = 1.0 / n;
+        for (mean, m2) in self.mean.iter_mut().zip(&mut self.m2) {
+            welford(mean, m2, 0.0, inv_n);
+        }
+    }
+
+    /// The sums of each quantity.
+    fn into_sums(self) -> Vec<Sums> {
+        let n = self.n;
+        self.mean
+            .into_iter()
+            .zip(self.m2)
+            .map(|(mean, m2)| Sums { n, mean, m2 })
+            .collect()
     }
 }
 
@@ -467,30 +526,28 @@ fn for_each_incidence(
 }
 
 /// Runs `walks` walks in chunks of [`CHUNK`] (in parallel, each chunk with its own stream from
-/// `seed`), `walk(rng, acc)` adding one walk's contributions to `k` quantities to `acc`, and
-/// returns the running sums of every chunk, in chunk order.
+/// `seed`), `walk(rng, acc)` adding one walk's contributions to `k` quantities to `acc` (all 0
+/// when it is called) and returning whether it may have added any, and returns the running
+/// sums of every chunk, in chunk order.
 pub(crate) fn chunk_sums<Wk>(walks: u64, seed: u64, k: usize, walk: Wk) -> Vec<Vec<Sums>>
 where
-    Wk: Fn(&mut Pcg64, &mut [f64]) + Sync,
+    Wk: Fn(&mut Pcg64, &mut [f64]) -> bool + Sync,
 {
     (0..walks.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
             let mut rng = chunk_rng(seed, c);
-            let mut sums = vec![Sums::default(); k];
+            let mut sums = ManySums::new(k);
             let mut acc = vec![0.0f64; k];
             for i in 0..chunk_len(walks, c) {
-                acc.fill(0.0);
-                walk(&mut rng, &mut acc);
-                // Every quantity's sums advance together: one division per walk, not per
-                // quantity.
                 let n = (i + 1) as f64;
-                let inv_n = 1.0 / n;
-                for (s, &a) in sums.iter_mut().zip(&acc) {
-                    s.add_nth(a, n, inv_n);
+                if walk(&mut rng, &mut acc) {
+                    sums.add_and_clear(n, &mut acc);
+                } else {
+                    sums.add_zeros(n);
                 }
             }
-            sums
+            sums.into_sums()
         })
         .collect()
 }
@@ -521,11 +578,13 @@ pub(crate) fn eval_many<W: Walker>(
     let k = wos.len();
     let start = (wi.z != 0.0).then(|| w.start(wi).at_hits(true));
     let chunks = chunk_sums(walks, seed, k, |rng, acc| {
-        let Some(start) = &start else { return };
+        let Some(start) = &start else { return false };
+        let mut added = false;
         w.walk::<true, _>(start, rng, |hit, rng| {
             if !w.orders().includes(hit.order) {
                 return;
             }
+            added = true;
             let reach = hit.reach();
             for (a, t) in acc.iter_mut().zip(&targets) {
                 let Some(t) = t else { continue };
@@ -535,6 +594,7 @@ pub(crate) fn eval_many<W: Walker>(
                 }
             }
         });
+        added
     });
     Batched {
         estimates: merged(&chunks, k).iter().map(Sums::estimate).collect(),
