@@ -192,13 +192,24 @@ fn welford(mean: &mut f64, m2: &mut f64, x: f64, inv_n: f64) {
 
 /// The [`Sums`] of many quantities that advance together, one value of each per walk, stored
 /// by field (every mean, then every `m2`) so that a walk's update of all of them is vector
-/// arithmetic. A walk that added nothing to any quantity (most walks, toward most targets)
-/// adds its zeros without reading a buffer of them.
+/// arithmetic.
+///
+/// A walk that added nothing to any quantity (most walks, toward most targets) is only
+/// recorded: the zeros of a run of such walks are added to each quantity in turn before the
+/// next walk that added something (and at the end), [`LANES`] quantities at a time, whose
+/// running sums stay in registers through the run. Each quantity sees the same updates in the
+/// same order as walk by walk, so the sums are the same bit for bit.
 struct ManySums {
     n: f64,
     mean: Vec<f64>,
     m2: Vec<f64>,
+    /// `1/n` of each walk of the current run of walks that added nothing, in order.
+    zero_walks: Vec<f64>,
 }
+
+/// Quantities whose sums advance together through a run of zero walks
+/// ([`ManySums::add_zero_walks`]): 8 keeps 16 sums and their temporaries in vector registers.
+const LANES: usize = 8;
 
 impl ManySums {
     fn new(k: usize) -> Self {
@@ -206,6 +217,7 @@ impl ManySums {
             n: 0.0,
             mean: vec![0.0; k],
             m2: vec![0.0; k],
+            zero_walks: Vec::with_capacity(CHUNK as usize),
         }
     }
 
@@ -213,6 +225,7 @@ impl ManySums {
     /// for the next walk. One division per walk, not per quantity.
     #[inline]
     fn add_and_clear(&mut self, n: f64, acc: &mut [f64]) {
+        self.add_zero_walks();
         self.n = n;
         let inv_n = 1.0 / n;
         for ((mean, m2), a) in self.mean.iter_mut().zip(&mut self.m2).zip(acc) {
@@ -221,19 +234,45 @@ impl ManySums {
         }
     }
 
-    /// Adds the `n`-th walk with the value 0 for every quantity: [`ManySums::add_and_clear`]
-    /// of a buffer of zeros, bit for bit.
+    /// Adds the `n`-th walk with the value 0 for every quantity (recorded, added by
+    /// [`ManySums::add_zero_walks`]).
     #[inline]
     fn add_zeros(&mut self, n: f64) {
         self.n = n;
-        let inv_n = 1.0 / n;
-        for (mean, m2) in self.mean.iter_mut().zip(&mut self.m2) {
-            welford(mean, m2, 0.0, inv_n);
+        self.zero_walks.push(1.0 / n);
+    }
+
+    /// Adds the recorded walks that added nothing: their value 0 to every quantity, walk by
+    /// walk, [`LANES`] quantities at a time.
+    fn add_zero_walks(&mut self) {
+        if self.zero_walks.is_empty() {
+            return;
         }
+        let mut means = self.mean.chunks_exact_mut(LANES);
+        let mut m2s = self.m2.chunks_exact_mut(LANES);
+        for (mean, m2) in (&mut means).zip(&mut m2s) {
+            let mut lane_mean: [f64; LANES] = std::array::from_fn(|l| mean[l]);
+            let mut lane_m2: [f64; LANES] = std::array::from_fn(|l| m2[l]);
+            for &inv_n in &self.zero_walks {
+                for (mean, m2) in lane_mean.iter_mut().zip(&mut lane_m2) {
+                    welford(mean, m2, 0.0, inv_n);
+                }
+            }
+            mean.copy_from_slice(&lane_mean);
+            m2.copy_from_slice(&lane_m2);
+        }
+        let rest = means.into_remainder().iter_mut().zip(m2s.into_remainder());
+        for (mean, m2) in rest {
+            for &inv_n in &self.zero_walks {
+                welford(mean, m2, 0.0, inv_n);
+            }
+        }
+        self.zero_walks.clear();
     }
 
     /// The sums of each quantity.
-    fn into_sums(self) -> Vec<Sums> {
+    fn into_sums(mut self) -> Vec<Sums> {
+        self.add_zero_walks();
         let n = self.n;
         self.mean
             .into_iter()
