@@ -22,14 +22,15 @@
 //! ([`stfit_core::walk::eval_pairs`]), seeded per direction (common random numbers).
 
 use std::collections::HashMap;
+use std::marker::PhantomData;
 use std::sync::OnceLock;
 
 use stfit_core::bsdf::{HalfVector, Masking};
 use stfit_core::error::check_eta;
-use stfit_core::ndf::{AnyNdf, Ndf};
+use stfit_core::ndf::{AnyNdf, Ndf, WithNdf};
 use stfit_core::walk::{
-    DielectricFacet, Microsurface, ScatteringOrders, WalkCost, check_walks_from_wo, chunk_walks,
-    eval_pairs_batched, pilot_seed,
+    DielectricFacet, Estimator, Microsurface, ScatteringOrders, WalkCost, check_walks_from_wo,
+    chunk_walks, eval_pairs_batched, pilot_seed,
 };
 use stfit_core::{ParamError, Vec3};
 
@@ -287,15 +288,20 @@ impl Forward {
         Ok(())
     }
 
-    /// The microsurface whose walks give the orders >= 2 term ([`Forward::walk_term`]).
-    fn walk_surface(
+    /// Runs `task` on the microsurface whose walks give the orders >= 2 term
+    /// ([`Forward::walk_term`]), built on the concrete NDF ([`OnWalkSurface`]).
+    fn on_walk_surface<R>(
         &self,
         ndf: &AnyNdf,
         eta: f64,
-    ) -> Result<Microsurface<AnyNdf, DielectricFacet>, ParamError> {
-        Microsurface::new(*ndf, DielectricFacet::new(eta)?)
-            .with_orders(ScatteringOrders::Multiple)
-            .with_walks_from_wo(self.walks_from_wo)
+        task: impl FnOnce(&dyn Estimator) -> R,
+    ) -> Result<R, ParamError> {
+        ndf.with(OnWalkSurface {
+            facet: DielectricFacet::new(eta)?,
+            walks_from_wo: self.walks_from_wo,
+            task,
+            output: PhantomData,
+        })
     }
 
     /// Estimated wall time, in seconds, of [`Forward::walk_term`] on rayon's current pool, from
@@ -305,9 +311,9 @@ impl Forward {
         if !self.has_walks() {
             return Ok(0.0);
         }
-        let surface = self.walk_surface(ndf, eta)?;
-        let cost =
-            WalkCost::measure_pairs(&surface, &self.pairs, self.walks, pilot_seed(self.seed));
+        let cost = self.on_walk_surface(ndf, eta, |surface| {
+            WalkCost::measure_pairs(surface, &self.pairs, self.walks, pilot_seed(self.seed))
+        })?;
         Ok(cost.seconds(self.walks))
     }
 
@@ -315,8 +321,9 @@ impl Forward {
     /// `walks` walks per incident direction ([`Forward::new`]), with its per-chunk means
     /// ([`WalkTerm`]).
     pub fn walk_term(&self, ndf: &AnyNdf, eta: f64) -> Result<WalkTerm, ParamError> {
-        let surface = self.walk_surface(ndf, eta)?;
-        let est = eval_pairs_batched(&surface, &self.pairs, self.walks, self.seed);
+        let est = self.on_walk_surface(ndf, eta, |surface| {
+            eval_pairs_batched(surface, &self.pairs, self.walks, self.seed)
+        })?;
         let mut term = WalkTerm {
             values: Vec::with_capacity(est.len()),
             group: Vec::with_capacity(est.len()),
@@ -332,6 +339,29 @@ impl Forward {
                 .push(e.batch_means.iter().map(|b| b * unit).collect());
         }
         Ok(term)
+    }
+}
+
+/// A task on the microsurface of a [`Forward`]'s orders >= 2 term (orders multiple, dielectric
+/// facets, the model's walks from each `wo`), run by [`AnyNdf::with`] on the concrete NDF: the
+/// walks then run code compiled for that NDF, with `D`, `Lambda` and the visible-normal
+/// sampler inlined, rather than a match on the NDF's family at each of their calls. The same
+/// arithmetic, so the same results bit for bit.
+struct OnWalkSurface<T, R> {
+    facet: DielectricFacet,
+    walks_from_wo: f64,
+    task: T,
+    output: PhantomData<fn() -> R>,
+}
+
+impl<T: FnOnce(&dyn Estimator) -> R, R> WithNdf for OnWalkSurface<T, R> {
+    type Output = Result<R, ParamError>;
+
+    fn run<N: Ndf>(self, ndf: N) -> Self::Output {
+        let surface = Microsurface::new(ndf, self.facet)
+            .with_orders(ScatteringOrders::Multiple)
+            .with_walks_from_wo(self.walks_from_wo)?;
+        Ok((self.task)(&surface))
     }
 }
 

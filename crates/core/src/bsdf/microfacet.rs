@@ -375,7 +375,7 @@ impl HalfVector {
     /// wo|`: at `|z| = 1e-8` and alpha 1e-8 the computed half vector was wrong by 100% of its
     /// tilt. There ([`unit_sum`]) each direction is scaled by `1 / |w|` from its squared norm
     /// computed exactly, and the corrections `w (1/|w| - 1)` are added to the exact-ish sum.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn unnormalised(wi: Vec3, wo: Vec3, n_i: f64, n_o: f64, reflect: bool) -> Vec3 {
         if reflect {
             let v = wi + wo;

@@ -132,7 +132,8 @@ pub(crate) fn supported<N: Ndf, F: Facet>(s: &Microsurface<N, F>) -> bool {
 
 /// One walk from `start` with next-event estimation toward `targets`, each path weighted by
 /// the balance heuristic against the walks from the other end, `kappa` times as many: adds
-/// the weighted estimates to `acc`.
+/// the weighted estimates to `acc`, and returns whether it may have added any (whether an
+/// event of a selected order estimated).
 fn weighted_walk<N: Ndf, F: Facet, R: rand::Rng + ?Sized>(
     s: &Microsurface<N, F>,
     start: &super::engine::Start,
@@ -140,14 +141,16 @@ fn weighted_walk<N: Ndf, F: Facet, R: rand::Rng + ?Sized>(
     kappa: f64,
     rng: &mut R,
     acc: &mut [f64],
-) {
+) -> bool {
     let orders = s.orders();
     let mut path = PathRatio::new();
+    let mut added = false;
     s.walk::<true, _>(start, rng, |hit, rng| {
         path.advance(s, hit);
         if !orders.includes(hit.order) {
             return;
         }
+        added = true;
         let reach = hit.reach();
         for (a, t) in acc.iter_mut().zip(targets) {
             let Some(t) = t else { continue };
@@ -162,6 +165,7 @@ fn weighted_walk<N: Ndf, F: Facet, R: rand::Rng + ?Sized>(
             }
         }
     });
+    added
 }
 
 /// Distinguishes the random numbers of the walks from `wo` from those of walks from `wi`.
@@ -189,10 +193,9 @@ pub(crate) fn eval_many<N: Ndf, F: Facet>(
     let from_wi = (wi.z != 0.0).then(|| s.start(wi));
     // The ratio of walks from wo to walks from wi the weights assume.
     let kappa = fraction;
-    let forward = chunk_sums(walks, seed, k, |rng, acc| {
-        if let Some(start) = &from_wi {
-            weighted_walk(s, start, &targets, kappa, rng, acc);
-        }
+    let forward = chunk_sums(walks, seed, k, |rng, acc| match &from_wi {
+        Some(start) => weighted_walk(s, start, &targets, kappa, rng, acc),
+        None => false,
     });
     let lens = chunk_walks(walks);
     let toward_wi = [s.target(wi)];

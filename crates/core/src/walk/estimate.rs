@@ -150,14 +150,11 @@ impl Sums {
         self.add_nth(x, n, 1.0 / n);
     }
 
-    /// [`Sums::add`] of the `n`-th value given `inv_n = 1/n`, for many running sums that
-    /// advance together and can share the division.
+    /// [`Sums::add`] of the `n`-th value given `inv_n = 1/n`.
     #[inline]
     fn add_nth(&mut self, x: f64, n: f64, inv_n: f64) {
         self.n = n;
-        let d = x - self.mean;
-        self.mean += d * inv_n;
-        self.m2 += d * (x - self.mean);
+        welford(&mut self.mean, &mut self.m2, x, inv_n);
     }
 
     fn merge(&mut self, o: &Sums) {
@@ -181,6 +178,119 @@ impl Sums {
             mean: self.mean,
             stderr: (var.max(0.0) / self.n.max(1.0)).sqrt(),
         }
+    }
+}
+
+/// Welford's step: the `n`-th value `x` (`inv_n = 1/n`) into a running `mean` and sum of
+/// squared deviations `m2`.
+#[inline(always)]
+fn welford(mean: &mut f64, m2: &mut f64, x: f64, inv_n: f64) {
+    let d = x - *mean;
+    *mean += d * inv_n;
+    *m2 += d * (x - *mean);
+}
+
+/// [`welford`] with `x = 0`, bit for bit where `m2` is not `-0.0` (a sum of squared deviations
+/// that starts at `+0.0` never is): with `d = 0 - mean = -mean`, the step is `mean -= mean
+/// inv_n`, `m2 += mean_before * mean_after` (negations are exact; where the product is a zero,
+/// its sign cannot change `m2`, which is then not `-0.0`). Four operations instead of six,
+/// and no zero to subtract from.
+#[inline(always)]
+fn welford_zero(mean: &mut f64, m2: &mut f64, inv_n: f64) {
+    let before = *mean;
+    *mean -= before * inv_n;
+    *m2 += before * *mean;
+}
+
+/// The [`Sums`] of many quantities that advance together, one value of each per walk, stored
+/// by field (every mean, then every `m2`) so that a walk's update of all of them is vector
+/// arithmetic.
+///
+/// A walk that added nothing to any quantity (most walks, toward most targets) is only
+/// recorded: the zeros of a run of such walks are added to each quantity in turn before the
+/// next walk that added something (and at the end), [`LANES`] quantities at a time, whose
+/// running sums stay in registers through the run. Each quantity sees the same updates in the
+/// same order as walk by walk, so the sums are the same bit for bit.
+struct ManySums {
+    n: f64,
+    mean: Vec<f64>,
+    m2: Vec<f64>,
+    /// `1/n` of each walk of the current run of walks that added nothing, in order.
+    zero_walks: Vec<f64>,
+}
+
+/// Quantities whose sums advance together through a run of zero walks
+/// ([`ManySums::add_zero_walks`]): 8 keeps 16 sums and their temporaries in vector registers.
+const LANES: usize = 8;
+
+impl ManySums {
+    fn new(k: usize) -> Self {
+        Self {
+            n: 0.0,
+            mean: vec![0.0; k],
+            m2: vec![0.0; k],
+            zero_walks: Vec::with_capacity(CHUNK as usize),
+        }
+    }
+
+    /// Adds the `n`-th walk's values `acc` (one per quantity) and sets them back to 0, ready
+    /// for the next walk. One division per walk, not per quantity.
+    #[inline]
+    fn add_and_clear(&mut self, n: f64, acc: &mut [f64]) {
+        self.add_zero_walks();
+        self.n = n;
+        let inv_n = 1.0 / n;
+        for ((mean, m2), a) in self.mean.iter_mut().zip(&mut self.m2).zip(acc) {
+            welford(mean, m2, *a, inv_n);
+            *a = 0.0;
+        }
+    }
+
+    /// Adds the `n`-th walk with the value 0 for every quantity (recorded, added by
+    /// [`ManySums::add_zero_walks`]).
+    #[inline]
+    fn add_zeros(&mut self, n: f64) {
+        self.n = n;
+        self.zero_walks.push(1.0 / n);
+    }
+
+    /// Adds the recorded walks that added nothing: their value 0 to every quantity, walk by
+    /// walk, [`LANES`] quantities at a time.
+    fn add_zero_walks(&mut self) {
+        if self.zero_walks.is_empty() {
+            return;
+        }
+        let mut means = self.mean.chunks_exact_mut(LANES);
+        let mut m2s = self.m2.chunks_exact_mut(LANES);
+        for (mean, m2) in (&mut means).zip(&mut m2s) {
+            let mut lane_mean: [f64; LANES] = std::array::from_fn(|l| mean[l]);
+            let mut lane_m2: [f64; LANES] = std::array::from_fn(|l| m2[l]);
+            for &inv_n in &self.zero_walks {
+                for (mean, m2) in lane_mean.iter_mut().zip(&mut lane_m2) {
+                    welford_zero(mean, m2, inv_n);
+                }
+            }
+            mean.copy_from_slice(&lane_mean);
+            m2.copy_from_slice(&lane_m2);
+        }
+        let rest = means.into_remainder().iter_mut().zip(m2s.into_remainder());
+        for (mean, m2) in rest {
+            for &inv_n in &self.zero_walks {
+                welford_zero(mean, m2, inv_n);
+            }
+        }
+        self.zero_walks.clear();
+    }
+
+    /// The sums of each quantity.
+    fn into_sums(mut self) -> Vec<Sums> {
+        self.add_zero_walks();
+        let n = self.n;
+        self.mean
+            .into_iter()
+            .zip(self.m2)
+            .map(|(mean, m2)| Sums { n, mean, m2 })
+            .collect()
     }
 }
 
@@ -467,30 +577,28 @@ fn for_each_incidence(
 }
 
 /// Runs `walks` walks in chunks of [`CHUNK`] (in parallel, each chunk with its own stream from
-/// `seed`), `walk(rng, acc)` adding one walk's contributions to `k` quantities to `acc`, and
-/// returns the running sums of every chunk, in chunk order.
+/// `seed`), `walk(rng, acc)` adding one walk's contributions to `k` quantities to `acc` (all 0
+/// when it is called) and returning whether it may have added any, and returns the running
+/// sums of every chunk, in chunk order.
 pub(crate) fn chunk_sums<Wk>(walks: u64, seed: u64, k: usize, walk: Wk) -> Vec<Vec<Sums>>
 where
-    Wk: Fn(&mut Pcg64, &mut [f64]) + Sync,
+    Wk: Fn(&mut Pcg64, &mut [f64]) -> bool + Sync,
 {
     (0..walks.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
             let mut rng = chunk_rng(seed, c);
-            let mut sums = vec![Sums::default(); k];
+            let mut sums = ManySums::new(k);
             let mut acc = vec![0.0f64; k];
             for i in 0..chunk_len(walks, c) {
-                acc.fill(0.0);
-                walk(&mut rng, &mut acc);
-                // Every quantity's sums advance together: one division per walk, not per
-                // quantity.
                 let n = (i + 1) as f64;
-                let inv_n = 1.0 / n;
-                for (s, &a) in sums.iter_mut().zip(&acc) {
-                    s.add_nth(a, n, inv_n);
+                if walk(&mut rng, &mut acc) {
+                    sums.add_and_clear(n, &mut acc);
+                } else {
+                    sums.add_zeros(n);
                 }
             }
-            sums
+            sums.into_sums()
         })
         .collect()
 }
@@ -521,11 +629,13 @@ pub(crate) fn eval_many<W: Walker>(
     let k = wos.len();
     let start = (wi.z != 0.0).then(|| w.start(wi).at_hits(true));
     let chunks = chunk_sums(walks, seed, k, |rng, acc| {
-        let Some(start) = &start else { return };
+        let Some(start) = &start else { return false };
+        let mut added = false;
         w.walk::<true, _>(start, rng, |hit, rng| {
             if !w.orders().includes(hit.order) {
                 return;
             }
+            added = true;
             let reach = hit.reach();
             for (a, t) in acc.iter_mut().zip(&targets) {
                 let Some(t) = t else { continue };
@@ -535,6 +645,7 @@ pub(crate) fn eval_many<W: Walker>(
                 }
             }
         });
+        added
     });
     Batched {
         estimates: merged(&chunks, k).iter().map(Sums::estimate).collect(),
@@ -624,6 +735,39 @@ pub(crate) fn albedo<W: Walker>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Welford's step with a zero value in its short form gives the general step's bits,
+    /// for means of both signs (zeros included), tiny and huge values, and `n` from 1 on.
+    #[test]
+    fn zero_step_is_the_general_step_bit_for_bit() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = Pcg64::seed_from_u64(5);
+        let special = [0.0, -0.0, 1e-310, -1e-310, 1e300, -1e300, 1.0, -1.0];
+        for i in 0..200_000 {
+            let mean = if i < special.len() * 8 {
+                special[i % special.len()]
+            } else {
+                let e: f64 = rng.random::<f64>() * 40.0 - 20.0;
+                (rng.random::<f64>() - 0.3) * 10f64.powf(e)
+            };
+            let m2 = if i % 8 == 0 {
+                0.0
+            } else {
+                rng.random::<f64>() * 10.0
+            };
+            let n = 1.0 + (i % 3000) as f64;
+            let inv_n = 1.0 / n;
+            let (mut m_a, mut s_a) = (mean, m2);
+            welford(&mut m_a, &mut s_a, 0.0, inv_n);
+            let (mut m_b, mut s_b) = (mean, m2);
+            welford_zero(&mut m_b, &mut s_b, inv_n);
+            assert_eq!(
+                (m_a.to_bits(), s_a.to_bits()),
+                (m_b.to_bits(), s_b.to_bits()),
+                "mean {mean:e}, m2 {m2:e}, n {n}"
+            );
+        }
+    }
 
     fn estimate(reflectance: f64, transmittance: f64, walks: u64) -> AlbedoEstimate {
         AlbedoEstimate {

@@ -220,6 +220,7 @@ impl Facet for DielectricFacet {
     /// The geometric checks need only the signs of `wi.v` and `wo.v` for the unnormalised half
     /// vector `v = |v| h`, so the normalisation (whose square root and division run side by
     /// side) waits until they pass; for many directions they do not.
+    #[inline(always)]
     fn phase<V: VisibleNormals, R: Rng + ?Sized>(&self, vis: &V, wo: Vec3, _rng: &mut R) -> f64 {
         self.phase_to_side(vis, wo, wo.z < 0.0)
     }
@@ -240,8 +241,10 @@ impl Facet for DielectricFacet {
 
 impl DielectricFacet {
     /// [`Facet::phase`] toward `wo` leaving into the lower medium if `o_inside`, whatever the
-    /// sign of `wo.z` ([`Facet::side_pdf`]).
-    #[inline]
+    /// sign of `wo.z` ([`Facet::side_pdf`]). Inlined into the loops over target directions
+    /// of next-event estimation, where what depends on the hit alone is then computed once
+    /// per hit.
+    #[inline(always)]
     fn phase_to_side<V: VisibleNormals>(&self, vis: &V, wo: Vec3, o_inside: bool) -> f64 {
         let wi = vis.wi();
         let n_i = if vis.inside() { self.eta } else { 1.0 };

@@ -334,7 +334,7 @@ impl<N: Ndf, F: Facet> Walker for Microsurface<N, F> {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn phase<R: Rng + ?Sized>(&self, hit: &Hit, wo: Vec3, pdf: bool, rng: &mut R) -> f64 {
         let vis = HeightFieldHit::reached(&self.ndf, hit.wi, hit.inside, hit.sigma, hit.sigma_nee);
         if pdf {
