@@ -287,8 +287,8 @@ pub fn run(args: SynthArgs, given: &[String]) -> CmdResult {
                     "--sample: a pab-opto sample name cannot hold a double quote",
                 ));
             }
-            let paths = write_pabopto(dir, &sample, form, Some(&comment))
-                .map_err(|e| failed(format!("{}: cannot write: {e}", dir.display())))?;
+            // The error names the folder or the file that cannot be written.
+            let paths = write_pabopto(dir, &sample, form, Some(&comment)).map_err(failed)?;
             let mut listing = String::new();
             for p in paths {
                 listing.push_str(&format!("{}\n", p.display()));
