@@ -337,7 +337,11 @@ impl PlaneFigure<'_> {
         );
         draw_title(&title_area, slot.title(), &detail, LARGE)?;
         // At most the largest double: an infinite axis never finished drawing.
-        let y1 = if top > 0.0 { (top * 1.05).min(f64::MAX) } else { 1.0 };
+        let y1 = if top > 0.0 {
+            (top * 1.05).min(f64::MAX)
+        } else {
+            1.0
+        };
         let y_desc = match self.y_scale {
             YScale::Sqrt => "√BSDF",
             YScale::Linear => "BSDF",

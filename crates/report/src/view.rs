@@ -489,7 +489,10 @@ mod tests {
     #[test]
     fn plotted_models_do_not_overflow() {
         let v = plotted_model(YScale::Sqrt, 1e307, 30.0);
-        assert!((v / (1e307f64.sqrt() * 30f64.sqrt()) - 1.0).abs() < 1e-15, "{v}");
+        assert!(
+            (v / (1e307f64.sqrt() * 30f64.sqrt()) - 1.0).abs() < 1e-15,
+            "{v}"
+        );
         assert_eq!(plotted_model(YScale::Linear, 1e307, 30.0), f64::MAX);
         assert_eq!(plotted_model(YScale::Linear, 2.0, 3.0), 6.0);
     }
