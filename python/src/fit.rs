@@ -699,7 +699,7 @@ pub fn report(
             )?;
             let (specs, opts) = (all_models(), &fit_opts);
             if opts.orders != ScatteringOrders::Single {
-                let cost = py.detach(|| fit_walk_cost(&data, &specs, &opts));
+                let cost = py.detach(|| fit_walk_cost(&data, &specs, opts));
                 long_run::warn_if_long(
                     py,
                     cost.seconds,
