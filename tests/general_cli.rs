@@ -266,3 +266,69 @@ fn invalid_general_fit_options_are_usage_errors() {
         assert!(stderr.contains(needle), "{args:?}: {stderr}");
     }
 }
+
+/// Extreme but valid angles and a long sample name give pab-opto file names a file system
+/// takes: angles in the shortest form that reads back (`1e-300`, not 300 digits), at most 100
+/// characters of the name. The files read back to the same angles, and a file that cannot be
+/// written is named in the error (exit 1), not its folder.
+#[test]
+fn pabopto_file_names_stay_short_and_a_failed_file_is_named() {
+    let dir = CaseDir::new("pabopto-names");
+    let out = dir.join("tiny");
+    let long = "g".repeat(300);
+    let grid = [
+        "synth",
+        "--grid",
+        "general",
+        "--model",
+        "ggx",
+        "--alpha",
+        "0.3",
+        "--theta-o",
+        "40,140",
+        "--phi-o",
+        "0",
+        "--pabopto",
+        "bsdf",
+    ];
+    let mut args = grid.to_vec();
+    args.extend([
+        "--theta-i",
+        "1e-300,179.99999999999997",
+        "--phi-i",
+        "1e-300,-1.7976931348623157e308",
+        "--sample",
+        &long,
+        "--out",
+        p(&out),
+    ]);
+    let listing = stfit(&args).ok().to_owned();
+    assert_eq!(listing.lines().count(), 8, "{listing}");
+    let stem = "g".repeat(100);
+    for name in [
+        format!("{stem}_1e-300_1e-300_R.txt"),
+        format!("{stem}_179.99999999999997_-1.7976931348623157e308_T.txt"),
+    ] {
+        assert!(out.join(&name).is_file(), "{name} not in {listing}");
+    }
+    for line in listing.lines() {
+        let name = Path::new(line).file_name().unwrap().len();
+        assert!(name <= 160, "{name} bytes: {line}");
+    }
+    let csv = stfit(&[p(&out), "--model", "ggx", "--json"])
+        .ok()
+        .to_owned();
+    assert!(csv.contains("\"fits\""), "{csv}");
+
+    // A folder where a file should go: the error names that file.
+    let blocked = dir.join("blocked");
+    std::fs::create_dir_all(blocked.join("synthetic_30_0_T.txt")).unwrap();
+    let mut args = grid.to_vec();
+    args.extend(["--theta-i", "30", "--out", p(&blocked)]);
+    let stderr = stfit(&args).fails_with(1).to_owned();
+    let file = blocked.join("synthetic_30_0_T.txt");
+    assert!(
+        stderr.contains(&format!("{}: cannot write", p(&file))),
+        "{stderr}"
+    );
+}

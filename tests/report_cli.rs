@@ -477,3 +477,51 @@ fn stored_fits_outside_the_format_are_named_not_drawn() {
         assert!(!md.contains("± -") && !md.contains("± 0 "), "{to}: {md}");
     }
 }
+
+/// Valid data whose values come near the largest double are drawn: the models between the
+/// measured points exceed it (GGX's peak of a general grid whose largest value is 1.3e308),
+/// and the fits' curves had overflowed, every fit being "not drawn"; the rmse recomputed from
+/// squared residuals of the square roots (each near 1e154) had overflowed to inf, warning that
+/// the fits came from other data.
+#[test]
+fn data_near_the_largest_double_are_drawn() {
+    let dir = CaseDir::new("report-huge");
+    let data = dir.join("huge.csv");
+    for (grid, y_axis) in [
+        ("general", "sqrt"),
+        ("general", "linear"),
+        ("in-plane", "sqrt"),
+    ] {
+        stfit_ok(&[
+            "synth",
+            "--grid",
+            grid,
+            "--model",
+            "ggx",
+            "--alpha",
+            "0.3",
+            "--theta-o",
+            if grid == "general" {
+                "5:175:10"
+            } else {
+                "106:254:4"
+            },
+            "--scale",
+            "1e307",
+            "--noise",
+            "0.01",
+            "--out",
+            p(&data),
+        ]);
+        let out = dir.join(&format!("{grid}-{y_axis}"));
+        let run = stfit_ok(&["report", p(&data), "--y-axis", y_axis, "--out", p(&out)]);
+        assert!(
+            !run.stderr.contains("warning"),
+            "{grid}, {y_axis}: {}",
+            run.stderr
+        );
+        let md = read(&out, "fits.md");
+        assert!(!md.contains("not drawn"), "{md}");
+        assert_eq!(table_rows(&md, "synthetic").len(), 4, "{md}");
+    }
+}

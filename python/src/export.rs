@@ -6,11 +6,15 @@ use std::path::PathBuf;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use stfit_export::radiance::{LayerKind, QuadratureRule, RadianceOptions};
-use stfit_export::{BatchError, Destination, Selection, Target, export_fits, radiance_walks_apply};
+use stfit_export::{
+    BatchError, Destination, Selection, Target, export_fits, radiance_walk_seconds,
+    radiance_walks_apply, reference_walk_seconds, select_fits,
+};
 use stfit_fit::{FitResult, FitsFile, ModelKind};
 
 use crate::errors::{arg_error, export_error, os_error, value_error};
 use crate::fit::PyFitResult;
+use crate::long_run;
 
 /// The target named as on the command line (`--to`).
 fn target(name: &str) -> PyResult<Target> {
@@ -156,6 +160,29 @@ pub fn export(
         Some(p) if p.is_dir() => Destination::Folder(p),
         Some(p) => Destination::File(p),
     };
+    // The walks of the export, announced when long (a selection the export refuses is
+    // reported by it).
+    if let Ok(selected) = select_fits(&fits, &selection, target, dest) {
+        let (seconds, what, shorter) = if target == Target::Radiance {
+            (
+                py.detach(|| radiance_walk_seconds(&selected, &radiance)),
+                format!(
+                    "the random walks of this export ({} per Klems patch)",
+                    radiance.walks_per_patch
+                ),
+                long_run::FEWER_WALKS,
+            )
+        } else {
+            (
+                py.detach(|| reference_walk_seconds(&selected)),
+                "the all-orders fits' own random walks, which give their values over the sphere \
+                 of directions the translation is measured on,"
+                    .to_owned(),
+                "fits with fewer walks make it shorter",
+            )
+        };
+        long_run::warn_if_long(py, seconds, &what, shorter)?;
+    }
     let batch = py
         .detach(|| export_fits(&fits, &selection, target, &radiance, dest))
         .map_err(|e| match (e, &file) {

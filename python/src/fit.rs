@@ -15,7 +15,7 @@ use stfit_fit::synth::{SynthSpec, parse_angle_list, write_file};
 use stfit_fit::{
     DEFAULT_ETA, DEFAULT_LOG_FLOOR, DEFAULT_WALKS, FitOptions, FitResult, FitsFile, Gamma, Grid,
     Loss, Model, ModelKind, ModelSpec, MultipleTerm, Optimizer, Parameter, SynthError, all_models,
-    fit_dataset,
+    fit_dataset, fit_walk_cost,
 };
 use stfit_report::{ReportError, ReportOptions, YScale, fits_table, render_report};
 
@@ -23,6 +23,7 @@ use crate::bsdf::masking;
 use crate::data::{PyDataset, dataset_of};
 use crate::errors::{arg_error, fit_error, os_error, value_error};
 use crate::ints;
+use crate::long_run;
 use crate::numbers::{self, float, float_repr, floats, opt_float};
 use crate::walk::orders;
 
@@ -203,6 +204,19 @@ pub fn fit(
         multiple_term,
     )?;
     let data = crate::data::load(data, sample)?.0;
+    if opts.orders != ScatteringOrders::Single {
+        let cost = py.detach(|| fit_walk_cost(&data, &specs, &opts));
+        long_run::warn_if_long(
+            py,
+            cost.seconds,
+            &format!(
+                "the random walks of the all-orders fits (at least {} estimates of the orders \
+                 >= 2 term, {} walks per incident direction each)",
+                cost.estimates, opts.walks
+            ),
+            long_run::FEWER_WALKS,
+        )?;
+    }
     let fits = py
         .detach(|| fit_dataset(&data, &specs, &opts, &|_, _| {}))
         .map_err(|e| fit_error(py, &e))?;
@@ -560,6 +574,17 @@ pub fn synth(
         seed,
         name: sample.to_owned(),
     };
+    if all {
+        let seconds = py.detach(|| spec.walk_seconds()).map_err(value_error)?;
+        long_run::warn_if_long(
+            py,
+            seconds,
+            &format!(
+                "the random walks of the orders >= 2 term ({walks} walks per incident direction)"
+            ),
+            long_run::FEWER_WALKS,
+        )?;
+    }
     let points = py.detach(|| spec.sample()).map_err(value_error)?;
     let comment = format!(
         "stfit {} synth (Python): model {}, alpha {alpha}, gamma {gamma:?}, scale {scale}, \
@@ -672,10 +697,33 @@ pub fn report(
                 seed.map(ints::seed).transpose()?,
                 multiple_term,
             )?;
-            py.detach(|| fit_dataset(&data, &all_models(), &fit_opts, &|_, _| {}))
+            let (specs, opts) = (all_models(), &fit_opts);
+            if opts.orders != ScatteringOrders::Single {
+                let cost = py.detach(|| fit_walk_cost(&data, &specs, opts));
+                long_run::warn_if_long(
+                    py,
+                    cost.seconds,
+                    &format!(
+                        "the random walks of the all-orders fits (at least {} estimates of the orders \
+                                 >= 2 term, {} walks per incident direction each)",
+                        cost.estimates, opts.walks
+                    ),
+                    long_run::FEWER_WALKS,
+                )?;
+            }
+            py.detach(|| fit_dataset(&data, &specs, opts, &|_, _| {}))
                 .map_err(|e| fit_error(py, &e))?
         }
     };
+    // The walks of the all-orders fits run again to draw them.
+    let seconds = py.detach(|| stfit_report::walk_seconds(&data, &fits, &opts));
+    long_run::warn_if_long(
+        py,
+        seconds,
+        "the all-orders fits' own random walks, which give the orders >= 2 of the curves and of \
+         the model at the measured points,",
+        "fits with fewer walks make it shorter",
+    )?;
     let report = py
         .detach(|| render_report(&data, &fits, &opts))
         .map_err(|e| value_error(format!("{}: {e}", data.source.display())))?;

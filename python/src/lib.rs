@@ -10,6 +10,7 @@ mod errors;
 mod export;
 mod fit;
 mod ints;
+mod long_run;
 mod ndf;
 mod numbers;
 mod tables;
@@ -23,6 +24,10 @@ fn _stfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("LoadError", m.py().get_type::<errors::LoadError>())?;
     m.add("FitError", m.py().get_type::<errors::FitError>())?;
     m.add("ExportError", m.py().get_type::<errors::ExportError>())?;
+    m.add(
+        "LongRunWarning",
+        m.py().get_type::<long_run::LongRunWarning>(),
+    )?;
     m.add_class::<ndf::PyStudentT>()?;
     m.add_class::<ndf::PyGgx>()?;
     m.add_class::<ndf::PyBeckmann>()?;

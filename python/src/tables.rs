@@ -16,6 +16,7 @@ use stfit_tables::{Shard, SpecError, Table, TableSpec};
 
 use crate::errors::{arg_error, os_error, value_error};
 use crate::ints;
+use crate::long_run;
 use crate::numbers::{floats, opt_float};
 
 /// An axis option: the text of `--alpha-grid` and the like (`START:END:COUNT`,
@@ -128,6 +129,8 @@ pub fn tables(
     let plan =
         Plan::new(&options, format, part, out.as_deref(), Naming::Keywords).map_err(spec_error)?;
     let is_shard = matches!(plan.output, Output::Shard(_));
+    let seconds = py.detach(|| plan.walk_seconds()).map_err(spec_error)?;
+    warn_if_long_table(py, seconds, &plan.spec)?;
     let (run, bytes) = py
         .detach(|| {
             let run = plan.run(&|_| {})?;
@@ -200,10 +203,24 @@ pub fn table_shard(
     let part: Shard = format!("{index}/{count}")
         .parse()
         .map_err(|e| arg_error("index/count", e))?;
+    let seconds = py
+        .detach(|| stfit_tables::compute::walk_seconds(&spec, part))
+        .map_err(value_error)?;
+    warn_if_long_table(py, seconds, &spec)?;
     py.detach(|| {
         let lines = compute(&spec, part, &Quadrature::default(), &|_| {}).map_err(value_error)?;
         shard::write(&spec, part, &lines).map_err(value_error)
     })
+}
+
+/// Warns before the walks of a table (or shard) of `spec` estimated at `seconds`, when long.
+fn warn_if_long_table(py: Python<'_>, seconds: f64, spec: &TableSpec) -> PyResult<()> {
+    long_run::warn_if_long(
+        py,
+        seconds,
+        &format!("the random walks of the table ({} per cell)", spec.walks),
+        "fewer walks or fewer nodes make it shorter",
+    )
 }
 
 /// Merges shard files' texts (every shard 1..N of one specification exactly once, as

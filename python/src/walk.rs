@@ -8,13 +8,14 @@ use stfit_core::error::show;
 use stfit_core::ndf::AnyNdf;
 use stfit_core::surface::{NdfChoice, NdfFamily, Surface, SurfaceOptions};
 use stfit_core::walk::{
-    AlbedoEstimate, DEFAULT_ALBEDO_WALKS, DEFAULT_EVAL_WALKS, SideError, check_walks,
-    defined_stderr, eval_pairs,
+    AlbedoEstimate, DEFAULT_ALBEDO_WALKS, DEFAULT_EVAL_WALKS, SideError, WalkCost, check_walks,
+    defined_stderr, distinct_incidences, eval_pairs, pilot_seed, walks_from_each_wo,
 };
 
 use crate::arrays::{Dirs, Pairing, checked_copy, values};
 use crate::errors::{arg_error, value_error};
 use crate::ints;
+use crate::long_run;
 use crate::ndf::{self, any_ndf, ndf_object};
 use crate::numbers::float_repr;
 
@@ -106,7 +107,9 @@ impl PyMicrosurface {
         let flat = wi.flat()?;
         let walks = walks_arg(walks)?;
         let (surface, orders) = (self.surface, self.orders);
-        let a = py.detach(|| {
+        // A pilot run (random numbers of its own, at most a sixteenth of the walks) times the
+        // walks, announced when long, as `stfit albedo` does.
+        let (w, cost) = py.detach(|| {
             let flat = &checked_copy(flat, "wi")?;
             let w = crate::arrays::dir(flat, 0);
             if w.z == 0.0 {
@@ -119,6 +122,12 @@ impl PyMicrosurface {
                     show(w.z)
                 )));
             }
+            let estimator = surface.estimator(orders).map_err(value_error)?;
+            let cost = WalkCost::measure(estimator.as_ref(), w, walks, pilot_seed(seed));
+            Ok::<_, PyErr>((w, cost))
+        })?;
+        long_run::warn_if_costly(py, cost, walks, walks)?;
+        let a = py.detach(|| {
             let estimator = surface.estimator(orders).map_err(value_error)?;
             Ok::<_, PyErr>(estimator.albedo(w, walks, seed))
         })?;
@@ -144,10 +153,24 @@ impl PyMicrosurface {
         let (a, b) = (wi.flat()?, wo.flat()?);
         let walks = walks_arg(walks)?;
         let (surface, orders) = (self.surface, self.orders);
-        let est = py.detach(|| {
+        // A pilot run times the walks, announced when long, as `stfit eval` does.
+        let (pairs, cost, all_walks) = py.detach(|| {
             let (a, b) = (&checked_copy(a, "wi")?, &checked_copy(b, "wo")?);
             let estimator = surface.estimator(orders).map_err(value_error)?;
             let pairs: Vec<_> = (0..pairing.n).map(|k| pairing.pair(a, b, k)).collect();
+            let cost = WalkCost::measure_pairs(estimator.as_ref(), &pairs, walks, pilot_seed(seed));
+            // Walks from every incidence, and from every pair's wo (bidirectional).
+            let all_walks = walks
+                .saturating_mul(distinct_incidences(&pairs).len() as u64)
+                .saturating_add(
+                    walks_from_each_wo(estimator.as_ref(), walks)
+                        .saturating_mul(pairs.len() as u64),
+                );
+            Ok::<_, PyErr>((pairs, cost, all_walks))
+        })?;
+        long_run::warn_if_costly(py, cost, walks, all_walks)?;
+        let est = py.detach(|| {
+            let estimator = surface.estimator(orders).map_err(value_error)?;
             Ok::<_, PyErr>(eval_pairs(estimator.as_ref(), &pairs, walks, seed))
         })?;
         let mean = est.iter().map(|e| e.mean).collect();

@@ -79,6 +79,16 @@ class ExportError(ValueError):
     written: list[pathlib.Path]
     text: Optional[str]
 
+class LongRunWarning(UserWarning):
+    """A run of random walks estimated to take over ten seconds is about to start.
+
+    Warned by ``fit``, ``report``, ``synth``, ``tables``, ``table_shard``, ``export`` and
+    ``Microsurface.albedo``/``eval`` before their walks start, with the words of the command
+    line's note: what will run, about how long it will take, what makes it shorter. Turned
+    into an error (``warnings.simplefilter("error", stfit.LongRunWarning)``), it stops the call
+    before its walks start.
+    """
+
 class _Ndf:
     def __eq__(self, other: object) -> bool:
         """Equal to an NDF of the same class with the same parameters."""

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use stfit_core::ScatteringOrders;
 use stfit_fit::pabopto::{PabValue, write_pabopto};
-use stfit_fit::synth::{SynthSpec, parse_angle_list, write_csv, write_file};
+use stfit_fit::synth::{SynthSpec, parse_angle_list, shell_option, write_csv, write_file};
 use stfit_fit::{DEFAULT_ETA, DEFAULT_WALKS, Gamma, Grid, Model, ModelKind, SynthError};
 
 use super::{
@@ -169,7 +169,11 @@ pub fn run(args: SynthArgs, given: &[String]) -> CmdResult {
                     theta_i_deg,
                     theta_o_deg,
                 },
-                format!("--theta-i {ti_text} --theta-o {to_text}"),
+                format!(
+                    "{} {}",
+                    shell_option("--theta-i", &ti_text),
+                    shell_option("--theta-o", &to_text)
+                ),
             )
         }
         GridArg::General => {
@@ -185,8 +189,11 @@ pub fn run(args: SynthArgs, given: &[String]) -> CmdResult {
                     phi_o_deg,
                 },
                 format!(
-                    "--grid general --theta-i {ti_text} --phi-i {pi_text} --theta-o {to_text} \
-                     --phi-o {po_text}"
+                    "--grid general {} {} {} {}",
+                    shell_option("--theta-i", &ti_text),
+                    shell_option("--phi-i", &pi_text),
+                    shell_option("--theta-o", &to_text),
+                    shell_option("--phi-o", &po_text)
                 ),
             )
         }
@@ -234,6 +241,27 @@ pub fn run(args: SynthArgs, given: &[String]) -> CmdResult {
         }
         e => usage(format!("synth: {e}")),
     };
+    // The output options of the command line recorded in the file (below), checked before
+    // any walk runs.
+    let out_flags = match (&args.out, args.pabopto) {
+        (None, _) => String::new(),
+        (Some(path), pabopto) => {
+            let Some(text) = path.to_str().filter(|t| !t.chars().any(char::is_control)) else {
+                return Err(usage(format!(
+                    "--out: '{}' cannot be recorded in the file's command line: a path must be \
+                     UTF-8 without control characters",
+                    path.display().to_string().escape_debug()
+                )));
+            };
+            let form = match pabopto {
+                Some(PabArg::Dsf) => " --pabopto dsf",
+                Some(PabArg::Bsdf) => " --pabopto bsdf",
+                None => "",
+            };
+            let append = if args.append { " --append" } else { "" };
+            format!("{form} {}{append}", shell_option("--out", text))
+        }
+    };
     if walks {
         long_run::note_if_long(
             spec.walk_seconds().map_err(synth_error)?,
@@ -247,9 +275,9 @@ pub fn run(args: SynthArgs, given: &[String]) -> CmdResult {
     let sample = spec.sample().map_err(synth_error)?;
 
     let show = stfit_core::error::show;
-    let gamma = args
-        .gamma
-        .map_or(String::new(), |g| format!(" --gamma {}", show(g)));
+    let gamma = args.gamma.map_or(String::new(), |g| {
+        format!(" {}", shell_option("--gamma", &show(g)))
+    });
     let value = match args.grid {
         GridArg::InPlane => "L = scale f_t cos(theta_i) / eta^2",
         GridArg::General => "BSDF = scale f",
@@ -262,19 +290,22 @@ pub fn run(args: SynthArgs, given: &[String]) -> CmdResult {
     } else {
         (String::new(), format!("single scattering: {value}"))
     };
+    // The command that writes this file again, pasted into a POSIX shell (every option
+    // spelled out, defaults too, and words quoted where a shell would change them), then the
+    // version and the model.
     let comment = format!(
-        "stfit {} synth --model {} --alpha {}{gamma} --scale {} --noise {} --seed {} \
-         {grid_flags} --eta {} --masking {}{orders_flags} --sample {}\n\
-         {model_line}, with noise max(0, v (1 + noise z))",
-        env!("CARGO_PKG_VERSION"),
+        "stfit synth --model {} {}{gamma} {} {} --seed {} {grid_flags} {} --masking {}\
+         {orders_flags} {}{out_flags}\n\
+         written by stfit {}: {model_line}, with noise max(0, v (1 + noise z))",
         kind.name(),
-        show(args.alpha),
-        show(args.scale),
-        show(args.noise),
+        shell_option("--alpha", &show(args.alpha)),
+        shell_option("--scale", &show(args.scale)),
+        shell_option("--noise", &show(args.noise)),
         args.seed,
-        show(args.eta),
+        shell_option("--eta", &show(args.eta)),
         masking.name(),
-        args.sample,
+        shell_option("--sample", &args.sample),
+        env!("CARGO_PKG_VERSION"),
     );
     match (&args.out, args.pabopto) {
         (Some(dir), Some(form)) => {
@@ -287,8 +318,8 @@ pub fn run(args: SynthArgs, given: &[String]) -> CmdResult {
                     "--sample: a pab-opto sample name cannot hold a double quote",
                 ));
             }
-            let paths = write_pabopto(dir, &sample, form, Some(&comment))
-                .map_err(|e| failed(format!("{}: cannot write: {e}", dir.display())))?;
+            // The error names the folder or the file that cannot be written.
+            let paths = write_pabopto(dir, &sample, form, Some(&comment)).map_err(failed)?;
             let mut listing = String::new();
             for p in paths {
                 listing.push_str(&format!("{}\n", p.display()));

@@ -626,6 +626,16 @@ fn header_of(path: &Path, bytes: &[u8]) -> Result<Option<CsvHeader>, LoadError> 
     )))
 }
 
+/// The column of header field `i` (0-based) as messages name it: its header name, or for an
+/// empty one (an unrecognised column, which may still be short of a field or not UTF-8) its
+/// position, `field 3 (empty name)`, which `column ''` did not give.
+fn column_label(names: &[String], i: usize) -> String {
+    match names.get(i) {
+        Some(name) if !name.is_empty() => name.clone(),
+        _ => format!("field {} (empty name)", i + 1),
+    }
+}
+
 /// A header's names as messages list them: each as [`crate::data::short`] shows text (control
 /// characters escaped, long names cut), at most 20 of them. A file whose line ends are lone
 /// `\r`s is one header line of every field, and a name may hold any text.
@@ -634,7 +644,13 @@ pub(crate) fn header_list(names: &[String]) -> String {
     let mut list: Vec<String> = names
         .iter()
         .take(MAX)
-        .map(|n| crate::data::short(n))
+        .map(|n| {
+            if n.is_empty() {
+                "(empty)".to_owned()
+            } else {
+                crate::data::short(n)
+            }
+        })
         .collect();
     if names.len() > MAX {
         list.push(format!("... ({} fields)", names.len()));
@@ -936,10 +952,10 @@ impl Header {
             ));
         }
         // Every field is checked for UTF-8, including those of unrecognised columns.
-        let fields = text_fields(source, line, record, |i| self.names[i].clone())?;
+        let fields = text_fields(source, line, record, |i| column_label(&self.names, i))?;
         if fields.len() < self.len {
             return Err(err(
-                &self.names[fields.len()],
+                &column_label(&self.names, fields.len()),
                 LoadErrorKind::ShortRow {
                     found: fields.len(),
                     expected: self.len,
@@ -1414,6 +1430,31 @@ mod tests {
         let values: Vec<f64> = d.samples[0].points.iter().map(|p| p.value).collect();
         assert_eq!(values, [1.0, 1e-160 * 1e-160, 0.0]);
         assert!(values[1] > 0.0 && !values[1].is_normal());
+    }
+
+    /// A column with an empty header name is named by its position: a short row had said
+    /// `column ''`, and a header listed in a message showed the name as nothing.
+    #[test]
+    fn empty_header_names_are_named_by_position() {
+        let (line, column, kind) = kind_at("theta_i_deg,,theta_o_deg,L,,\n0,5,180,1\n");
+        assert_eq!(
+            (line, column.as_deref()),
+            (Some(2), Some("field 5 (empty name)"))
+        );
+        assert!(matches!(kind, LoadErrorKind::ShortRow { .. }));
+        let (_, column, kind) = kind_at("theta_i_deg,,L\n0,180,1\n");
+        assert_eq!(column.as_deref(), Some("theta_o_deg"));
+        assert!(
+            kind.to_string().contains("theta_i_deg, (empty), L"),
+            "{kind}"
+        );
+        let e = load_bytes(
+            Path::new("t.csv"),
+            b"theta_i_deg,theta_o_deg,L, \n0,180,1,\xff\n",
+        )
+        .unwrap_err();
+        assert_eq!(e.column.as_deref(), Some("field 4 (empty name)"), "{e}");
+        assert_eq!(e.kind, LoadErrorKind::NotUtf8);
     }
 
     #[test]

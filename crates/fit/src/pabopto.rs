@@ -29,12 +29,12 @@
 //! at `phi + 180`.
 
 use crate::pairs::format_number;
-use std::io::Write;
 use std::path::Path;
 
 use crate::conventions::{THETA_RANGE, reduced_azimuth_deg, spherical_from_deg, theta_in_range};
 use crate::data::{Measurement, Sample};
 use crate::load::{LoadError, LoadErrorKind, parse_finite};
+use crate::synth::SynthError;
 
 /// How a pab-opto file gives its values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -400,48 +400,60 @@ fn data_line(
     Ok((theta, phi, read[read.len() / 2]))
 }
 
+/// Characters of the sample name kept in the names of [`write_pabopto`]'s files.
+pub const PABOPTO_STEM_CHARS: usize = 100;
+
 /// Writes a general sample as pab-opto files into the folder `dir` (created if missing), one
 /// per incident direction and scattered side, named `NAME_THETA_PHI_R.txt` (reflection) or
 /// `_T.txt` (transmission), values as `form`, preceded by `comment` lines. Returns the paths.
+/// `NAME` is the first [`PABOPTO_STEM_CHARS`] characters of the sample name, each outside
+/// `[A-Za-z0-9-]` becoming `_` (`sample` for an unnamed sample), and the angles are written as
+/// in the files, in the shortest form that reads back to them, in exponent form outside
+/// `[1e-4, 1e15)` (`1e-300`, not 300 zeros): a name is at most about 160 bytes, so valid
+/// angles never make one that a file system refuses.
 /// The sample name must not contain a double quote; an unnamed sample's files have no
-/// `#sample_name` line.
+/// `#sample_name` line. An error names the folder or the file that could not be written.
 pub fn write_pabopto(
     dir: &Path,
     sample: &Sample,
     form: PabValue,
     comment: Option<&str>,
-) -> std::io::Result<Vec<std::path::PathBuf>> {
-    crate::files::create_folder(dir)?;
+) -> Result<Vec<std::path::PathBuf>, SynthError> {
+    let io_at = |path: &Path| {
+        let path = path.display().to_string();
+        move |source| SynthError::Io { path, source }
+    };
+    crate::files::create_folder(dir).map_err(io_at(dir))?;
     // Files in order of first appearance of (incidence, side).
-    let mut files: Vec<((f64, f64, bool), Vec<u8>)> = Vec::new();
+    let mut files: Vec<((f64, f64, bool), String)> = Vec::new();
     for p in &sample.points {
         let Some(((theta_i_deg, phi_i_deg), (theta_o_deg, phi_o_deg))) = p.spherical_angles()
         else {
-            return Err(std::io::Error::other(
+            return Err(io_at(dir)(std::io::Error::other(
                 "only general samples (spherical angles) can be written as pab-opto files",
-            ));
+            )));
         };
         let reflect = (theta_i_deg < 90.0) == (theta_o_deg < 90.0);
         let key = (theta_i_deg, phi_i_deg, reflect);
         let slot = match files.iter().position(|(k, _)| *k == key) {
             Some(i) => i,
             None => {
-                let mut head = Vec::new();
+                let mut head = String::new();
                 if let Some(comment) = comment {
                     for line in comment.lines() {
-                        writeln!(head, "# {line}")?;
+                        head.push_str(&format!("# {line}\n"));
                     }
                 }
                 if !sample.name.is_empty() {
-                    writeln!(head, "#sample_name \"{}\"", sample.name)?;
+                    head.push_str(&format!("#sample_name \"{}\"\n", sample.name));
                 }
-                writeln!(head, "#format: theta phi {}", form.name())?;
-                writeln!(head, "#intheta {}", format_number(theta_i_deg))?;
-                writeln!(head, "#inphi {}", format_number(phi_i_deg))?;
+                head.push_str(&format!("#format: theta phi {}\n", form.name()));
+                head.push_str(&format!("#intheta {}\n", format_number(theta_i_deg)));
+                head.push_str(&format!("#inphi {}\n", format_number(phi_i_deg)));
                 // Up at azimuth 90: pabopto2bsdf's rotation `90 - upphi` is then 0, and
                 // Radiance's azimuths are stfit's.
-                writeln!(head, "#upphi 90")?;
-                writeln!(head, "#colorimetry: CIE-Y")?;
+                head.push_str("#upphi 90\n");
+                head.push_str("#colorimetry: CIE-Y\n");
                 files.push((key, head));
                 files.len() - 1
             }
@@ -451,13 +463,12 @@ pub fn write_pabopto(
             PabValue::Bsdf => p.value,
             PabValue::Dsf => p.value * cos,
         };
-        writeln!(
-            files[slot].1,
-            "{} {} {}",
+        files[slot].1.push_str(&format!(
+            "{} {} {}\n",
             format_number(theta_o_deg),
             format_number(phi_o_deg),
             format_number(value)
-        )?;
+        ));
     }
     let stem: String = if sample.name.is_empty() {
         "sample".into()
@@ -465,6 +476,7 @@ pub fn write_pabopto(
         sample
             .name
             .chars()
+            .take(PABOPTO_STEM_CHARS)
             .map(|c| {
                 if c.is_ascii_alphanumeric() || c == '-' {
                     c
@@ -477,8 +489,12 @@ pub fn write_pabopto(
     let mut paths = Vec::new();
     for ((ti, pi, reflect), bytes) in files {
         let side = if reflect { "R" } else { "T" };
-        let path = dir.join(format!("{stem}_{ti}_{pi}_{side}.txt"));
-        std::fs::write(&path, bytes)?;
+        let path = dir.join(format!(
+            "{stem}_{}_{}_{side}.txt",
+            format_number(ti),
+            format_number(pi)
+        ));
+        std::fs::write(&path, bytes).map_err(io_at(&path))?;
         paths.push(path);
     }
     Ok(paths)

@@ -494,9 +494,44 @@ pub fn parse_angle_list(text: &str) -> Result<Vec<f64>, String> {
     Ok(angles)
 }
 
+/// `word` as one word of a POSIX shell command: as it is when every character is one a shell
+/// takes literally (ASCII letters, digits and `_@%+=:,./-`), else between single quotes, each
+/// `'` inside written `'\''`; the empty word is `''`. For the command line that `stfit synth`
+/// records in its files, which pasted into a shell writes the file again.
+pub fn shell_word(word: &str) -> String {
+    let plain = |c: char| c.is_ascii_alphanumeric() || "_@%+=:,./-".contains(c);
+    if !word.is_empty() && word.chars().all(plain) {
+        word.to_owned()
+    } else {
+        format!("'{}'", word.replace('\'', r"'\''"))
+    }
+}
+
+/// The option `flag` with `value` as shell words: `--flag VALUE`, or `--flag=VALUE` for a
+/// value that starts with `-` (which a parser would otherwise take for a flag).
+pub fn shell_option(flag: &str, value: &str) -> String {
+    let sep = if value.starts_with('-') { '=' } else { ' ' };
+    format!("{flag}{sep}{}", shell_word(value))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Words a shell takes literally stay as they are; others are single-quoted, a quote
+    /// inside too; a value starting with `-` is joined to its flag.
+    #[test]
+    fn shell_words_quote_what_a_shell_would_change() {
+        assert_eq!(shell_word("0:340:20"), "0:340:20");
+        assert_eq!(shell_word("/tmp/a-b_c.csv"), "/tmp/a-b_c.csv");
+        assert_eq!(shell_word("my glass"), "'my glass'");
+        assert_eq!(shell_word("it's"), r"'it'\''s'");
+        assert_eq!(shell_word(""), "''");
+        assert_eq!(shell_word("$HOME*"), "'$HOME*'");
+        assert_eq!(shell_word("verre\u{e9}"), "'verre\u{e9}'");
+        assert_eq!(shell_option("--phi-i", "-90,90"), "--phi-i=-90,90");
+        assert_eq!(shell_option("--sample", "a b"), "--sample 'a b'");
+    }
     use crate::load::load_bytes;
     use crate::model::{Gamma, ModelKind};
     use stfit_core::ScatteringOrders;

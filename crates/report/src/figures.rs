@@ -58,9 +58,15 @@ fn padded(lo: f64, hi: f64, pad: f64, step: f64) -> (f64, f64) {
     )
 }
 
-/// Vertical range of a value plot: from zero (or the lowest value) to 5% above the highest.
+/// Vertical range of a value plot: from zero (or the lowest value) to 5% above the highest,
+/// at most the largest double (a linear axis of values near it had become infinite, and the
+/// chart never finished).
 fn value_range((lo, hi): (f64, f64)) -> (f64, f64) {
-    let top = if hi > 0.0 { hi * 1.05 } else { 1.0 };
+    let top = if hi > 0.0 {
+        (hi * 1.05).min(f64::MAX)
+    } else {
+        1.0
+    };
     let bottom = if lo < 0.0 {
         lo - 0.05 * (top - lo)
     } else {
@@ -69,10 +75,15 @@ fn value_range((lo, hi): (f64, f64)) -> (f64, f64) {
     (bottom, top)
 }
 
-/// Symmetric vertical range around zero for residuals.
+/// Symmetric vertical range around zero for residuals, at most half the largest double each
+/// way, so that its width is finite.
 fn residual_range((lo, hi): (f64, f64)) -> (f64, f64) {
     let m = lo.abs().max(hi.abs());
-    let m = if m > 0.0 { m * 1.1 } else { 1.0 };
+    let m = if m > 0.0 {
+        (m * 1.1).min(f64::MAX / 2.0)
+    } else {
+        1.0
+    };
     (-m, m)
 }
 

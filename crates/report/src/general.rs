@@ -19,7 +19,9 @@ use stfit_fit::{FitResult, Measurement, Sample, reduced_azimuth_deg};
 use crate::figures::{LARGE, curve_chart, draw_title, fmt_tick};
 use crate::render::Figure;
 use crate::style::{AnglePalette, GREY, Glyph, LegendEntry, bold, draw_header, fmt_deg, text};
-use crate::view::{ModelSlot, NotDrawn, sample_title, walk_seconds_at};
+use crate::view::{
+    ModelSlot, NotDrawn, SquareSum, plotted_model, sample_title, unit_predictions, walk_seconds_at,
+};
 use crate::{ReportError, YScale};
 
 /// Spacing of the model curves along the plane of incidence, degrees.
@@ -83,9 +85,9 @@ pub(crate) struct GeneralPanel<'a> {
     /// Per incidence and measured point (same order), measured minus model in the report's
     /// scale.
     pub residuals: Vec<Vec<f64>>,
-    /// The sum of squared residuals of the square root of the values over the fitted points
-    /// and their number, recomputed.
-    pub sq_sum: (f64, usize),
+    /// The squared residuals of the square root of the values over the fitted points,
+    /// recomputed.
+    pub sq_sum: SquareSum,
 }
 
 /// A general sample with everything its figures need.
@@ -224,28 +226,29 @@ fn panel_of<'a>(
     let ndf = crate::view::drawable_ndf(fit)?;
     let invalid = |e| ReportError::invalid_fit(fit, e);
     let xs = curve_xs();
-    let values = fit
-        .model
-        .predict_points(&panel_points(incidences, members))
-        .map_err(invalid)?;
+    let values = unit_predictions(fit, &panel_points(incidences, members)).map_err(invalid)?;
+    let scale = fit.model.scale;
     let (curve_values, point_values) = values.split_at(xs.len() * incidences.len());
     let curves = curve_values
         .chunks(xs.len())
-        .map(|c| xs.iter().zip(c).map(|(&x, &v)| (x, y.apply(v))).collect())
+        .map(|c| {
+            xs.iter()
+                .zip(c)
+                .map(|(&x, &v)| (x, plotted_model(y, scale, v)))
+                .collect()
+        })
         .collect();
     let mut residuals = Vec::with_capacity(incidences.len());
-    let (mut sum, mut n) = (0.0, 0usize);
+    let mut sq_sum = SquareSum::default();
     let mut at = 0;
     for g in incidences {
         let mut res = Vec::with_capacity(g.points.len());
         for &(_, _, v, fitted) in &g.points {
-            let model = point_values[at];
+            let unit = point_values[at];
             at += 1;
-            res.push(y.apply(v) - y.apply(model));
+            res.push(y.apply(v) - plotted_model(y, scale, unit));
             if fitted {
-                let d = YScale::Sqrt.apply(v) - YScale::Sqrt.apply(model);
-                sum += d * d;
-                n += 1;
+                sq_sum.add(YScale::Sqrt.apply(v) - plotted_model(YScale::Sqrt, scale, unit));
             }
         }
         residuals.push(res);
@@ -255,7 +258,7 @@ fn panel_of<'a>(
         ndf,
         curves,
         residuals,
-        sq_sum: (sum, n),
+        sq_sum,
     })
 }
 
@@ -333,7 +336,12 @@ impl PlaneFigure<'_> {
             |p| crate::figures::params_text(p.fit, true),
         );
         draw_title(&title_area, slot.title(), &detail, LARGE)?;
-        let y1 = if top > 0.0 { top * 1.05 } else { 1.0 };
+        // At most the largest double: an infinite axis never finished drawing.
+        let y1 = if top > 0.0 {
+            (top * 1.05).min(f64::MAX)
+        } else {
+            1.0
+        };
         let y_desc = match self.y_scale {
             YScale::Sqrt => "√BSDF",
             YScale::Linear => "BSDF",

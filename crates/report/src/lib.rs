@@ -345,9 +345,9 @@ pub fn render_report(
             let Some(fit) = a.map(|p| p.fit).or(b.map(|p| p.fit)) else {
                 continue;
             };
-            let (s1, n1) = a.map_or((0.0, 0), |p| p.sq_sum);
-            let (s2, n2) = b.map_or((0.0, 0), |p| p.sq_sum);
-            checks.push((fit, ((s1 + s2) / (n1 + n2).max(1) as f64).sqrt()));
+            let s1 = a.map_or_else(Default::default, |p| p.sq_sum);
+            let s2 = b.map_or_else(Default::default, |p| p.sq_sum);
+            checks.push((fit, s1.merge(s2).rms()));
         }
         rmse_checks.push((view::sample_title(&sample.name), checks));
     }

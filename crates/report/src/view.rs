@@ -81,9 +81,90 @@ pub(crate) struct PanelView<'a> {
     pub curves: Vec<Vec<Point>>,
     /// Measured minus model, in the report's scale, per [`AngleGroup`].
     pub residuals: Vec<Vec<Point>>,
-    /// The sum of squared residuals of `sqrt(L)` over the fitted points (weight > 0) and their
-    /// number, recomputed from the data and the fitted parameters.
-    pub sq_sum: (f64, usize),
+    /// The squared residuals of `sqrt(L)` over the fitted points (weight > 0), recomputed
+    /// from the data and the fitted parameters.
+    pub sq_sum: SquareSum,
+}
+
+/// A sum of squares that neither overflows nor loses small terms, for the rms of residuals of
+/// values up to the largest double (whose square roots' squares add up past it): kept as
+/// `scale^2 * ssq` with `scale` the largest magnitude added (LAPACK's `dnrm2`). A NaN term
+/// makes the rms NaN.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct SquareSum {
+    scale: f64,
+    ssq: f64,
+    /// The number of terms.
+    pub n: usize,
+}
+
+impl SquareSum {
+    /// Adds `d * d`.
+    pub fn add(&mut self, d: f64) {
+        self.n += 1;
+        let a = d.abs();
+        if a.is_nan() {
+            self.ssq = f64::NAN;
+        } else if a > self.scale {
+            self.ssq = 1.0 + self.ssq * (self.scale / a).powi(2);
+            self.scale = a;
+        } else if a > 0.0 {
+            self.ssq += (a / self.scale).powi(2);
+        }
+    }
+
+    /// The sum of both sums' terms.
+    pub fn merge(self, other: Self) -> Self {
+        let (big, small) = if other.scale > self.scale {
+            (other, self)
+        } else {
+            (self, other)
+        };
+        let ssq = if big.scale > 0.0 {
+            big.ssq + small.ssq * (small.scale / big.scale).powi(2)
+        } else {
+            big.ssq + small.ssq
+        };
+        Self {
+            scale: big.scale,
+            ssq,
+            n: self.n + other.n,
+        }
+    }
+
+    /// The root mean square of the terms, 0 for none.
+    pub fn rms(&self) -> f64 {
+        if self.n == 0 {
+            0.0
+        } else {
+            self.scale * (self.ssq / self.n as f64).sqrt()
+        }
+    }
+}
+
+/// The model value `scale * unit` (`unit` the model at scale 1) in the plotted scale `y`,
+/// computed so that a value near or past the largest double does not overflow: on the square
+/// root axis `sqrt(scale) sqrt(unit)`, always finite; on the linear axis `scale * unit`, a
+/// value past the largest double being drawn at it (above the top of the chart).
+pub(crate) fn plotted_model(y: YScale, scale: f64, unit: f64) -> f64 {
+    match y {
+        YScale::Sqrt => scale.sqrt() * YScale::Sqrt.apply(unit),
+        YScale::Linear => (scale * unit).clamp(-f64::MAX, f64::MAX),
+    }
+}
+
+/// The model of `fit` at `points` at scale 1 (the fitted scale is applied by
+/// [`plotted_model`]): a fit of values near the largest double, whose model at points between
+/// the measured ones can exceed it, is still drawn.
+pub(crate) fn unit_predictions(
+    fit: &FitResult,
+    points: &[Measurement],
+) -> Result<Vec<f64>, stfit_fit::FitError> {
+    let unit = stfit_fit::Model {
+        scale: 1.0,
+        ..fit.model
+    };
+    unit.predict_points(points)
 }
 
 /// A sample with everything its figures need.
@@ -199,26 +280,27 @@ fn panel_view<'a>(
     let ndf = drawable_ndf(fit)?;
     let invalid = |e| ReportError::invalid_fit(fit, e);
     let points = panel_points(groups, range);
-    let l = fit.model.predict_points(&points).map_err(invalid)?;
+    let unit = unit_predictions(fit, &points).map_err(invalid)?;
+    let scale = fit.model.scale;
     let y = opts.y_scale;
     let mut curves = Vec::with_capacity(groups.len());
     let mut residuals = Vec::with_capacity(groups.len());
-    let (mut sum_sq, mut n) = (0.0, 0usize);
+    let mut sq_sum = SquareSum::default();
     let mut at = 0;
     for g in groups {
         let curve = (0..CURVE_POINTS)
-            .map(|k| (curve_x(range, k), y.apply(l[at + k])))
+            .map(|k| (curve_x(range, k), plotted_model(y, scale, unit[at + k])))
             .collect();
         at += CURVE_POINTS;
         let mut res = Vec::with_capacity(g.points.len());
         for ((&(x, y_meas), &l_meas), &fitted) in g.points.iter().zip(&g.l).zip(&g.fitted) {
-            let l_model = l[at];
+            let unit_model = unit[at];
             at += 1;
-            res.push((x, y_meas - y.apply(l_model)));
+            res.push((x, y_meas - plotted_model(y, scale, unit_model)));
             if fitted {
-                let d = YScale::Sqrt.apply(l_meas) - YScale::Sqrt.apply(l_model);
-                sum_sq += d * d;
-                n += 1;
+                sq_sum.add(
+                    YScale::Sqrt.apply(l_meas) - plotted_model(YScale::Sqrt, scale, unit_model),
+                );
             }
         }
         curves.push(curve);
@@ -229,7 +311,7 @@ fn panel_view<'a>(
         ndf,
         curves,
         residuals,
-        sq_sum: (sum_sq, n),
+        sq_sum,
     })
 }
 
@@ -372,4 +454,46 @@ pub(crate) fn extent(values: impl Iterator<Item = f64>) -> (f64, f64) {
 pub(crate) fn ndf_at_deg(ndf: &AnyNdf, theta_m_deg: f64) -> f64 {
     let t = theta_m_deg.to_radians();
     ndf.d(Vec3::new(t.sin(), 0.0, t.cos()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Squares past the largest double, and squares too small to survive a fixed rescaling,
+    /// sum to the rms they have.
+    #[test]
+    fn square_sums_neither_overflow_nor_lose_small_terms() {
+        let mut big = SquareSum::default();
+        for d in [3e154, -4e154, 0.0] {
+            big.add(d);
+        }
+        let expected = (25.0f64 / 3.0).sqrt() * 1e154;
+        assert!((big.rms() / expected - 1.0).abs() < 1e-15, "{}", big.rms());
+        let mut small = SquareSum::default();
+        for d in [3e-170, 4e-170] {
+            small.add(d);
+        }
+        assert!((small.rms() / (12.5f64.sqrt() * 1e-170) - 1.0).abs() < 1e-15);
+        let all = big.merge(small);
+        assert_eq!(all.n, 5);
+        assert!((all.rms() / ((25.0f64 / 5.0).sqrt() * 1e154) - 1.0).abs() < 1e-15);
+        assert_eq!(SquareSum::default().merge(small), small);
+        assert_eq!(SquareSum::default().rms(), 0.0);
+        let mut nan = big;
+        nan.add(f64::NAN);
+        assert!(nan.rms().is_nan());
+    }
+
+    /// The plotted model of a value past the largest double is finite on both axes.
+    #[test]
+    fn plotted_models_do_not_overflow() {
+        let v = plotted_model(YScale::Sqrt, 1e307, 30.0);
+        assert!(
+            (v / (1e307f64.sqrt() * 30f64.sqrt()) - 1.0).abs() < 1e-15,
+            "{v}"
+        );
+        assert_eq!(plotted_model(YScale::Linear, 1e307, 30.0), f64::MAX);
+        assert_eq!(plotted_model(YScale::Linear, 2.0, 3.0), 6.0);
+    }
 }

@@ -163,6 +163,53 @@ fn single_threaded<T: Send>(f: impl FnOnce() -> T + Send) -> T {
     }
 }
 
+/// The note that announces a run of random walks estimated at `seconds`, when that exceeds
+/// [`LONG_RUN_SECONDS`]: `WHAT will take about TIME (SHORTER)`, `what` naming the walks and
+/// `shorter` what makes them shorter; `None` for a shorter run. Front ends give it to their
+/// users before the run starts: the command line on stderr after `note: `, the Python package
+/// as a warning.
+pub fn long_run_note(seconds: f64, what: &str, shorter: &str) -> Option<String> {
+    (seconds > LONG_RUN_SECONDS).then(|| {
+        format!(
+            "{what} will take about {} ({shorter})",
+            describe_seconds(seconds)
+        )
+    })
+}
+
+impl WalkCost {
+    /// The note that announces a run of `walks` walks of this cost when it will take over
+    /// [`LONG_RUN_SECONDS`] ([`WalkCost::seconds`]): the mean path length, the `all_walks` walks
+    /// of the whole run and how long they will take, `shorter` (what makes the run shorter: a
+    /// smaller alpha and, for Student-T, a larger gamma are added to it), and the flux a pilot
+    /// walk dropped at the safety cap, if any; `None` for a shorter run.
+    pub fn long_run_note(&self, walks: u64, all_walks: u64, shorter: &str) -> Option<String> {
+        let seconds = self.seconds(walks);
+        if seconds <= LONG_RUN_SECONDS {
+            return None;
+        }
+        let bounces = if self.mean_bounces < 10.0 {
+            format!("{:.1}", self.mean_bounces)
+        } else {
+            format!("{:.0}", self.mean_bounces)
+        };
+        let mut note = format!(
+            "about {bounces} scattering events per walk: {all_walks} walks will take about {} on \
+             {} threads ({shorter}; so do a smaller alpha and, for Student-T, a larger gamma)",
+            describe_seconds(seconds),
+            self.threads,
+        );
+        if self.truncated > 0.0 {
+            note += &format!(
+                "; walks of a pilot run reached the safety cap on scattering events and dropped \
+                 {:.1e} of its flux",
+                self.truncated
+            );
+        }
+        Some(note)
+    }
+}
+
 /// A duration in seconds as people say it: `40 s`, `12 min`, `3.5 h`, `2.1 days`.
 pub fn describe_seconds(s: f64) -> String {
     if s < 90.0 {

@@ -69,7 +69,7 @@ mod null;
 
 pub use cost::{
     LONG_RUN_SECONDS, PILOT_INCIDENCES, PILOT_MAX_WALKS, PILOT_SECONDS, PILOT_SHARE, PILOT_WALKS,
-    WalkCost, describe_seconds, pilot_seed,
+    WalkCost, describe_seconds, long_run_note, pilot_seed,
 };
 pub use engine::{WalkEnd, WalkSample};
 pub use estimate::{
