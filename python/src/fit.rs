@@ -13,7 +13,7 @@ use stfit_fit::conventions::{THETA_I_RANGE, THETA_O_RANGE, theta_i_in_range, the
 use stfit_fit::options::check_fit_walks;
 use stfit_fit::synth::{SynthSpec, parse_angle_list, write_file};
 use stfit_fit::{
-    DEFAULT_ETA, DEFAULT_LOG_FLOOR, DEFAULT_WALKS, FitOptions, FitResult, FitsFile, Gamma, Grid,
+    DEFAULT_ETA, DEFAULT_LOG_FLOOR, DEFAULT_WALKS, Dataset, FitOptions, FitResult, FitsFile, Gamma, Grid,
     Loss, Model, ModelKind, ModelSpec, MultipleTerm, Optimizer, Parameter, SynthError, all_models,
     fit_dataset, fit_walk_cost,
 };
@@ -165,6 +165,21 @@ fn specs(model: &str, gamma: Option<f64>) -> PyResult<Vec<ModelSpec>> {
     ])
 }
 
+/// Warns ([`long_run::warn_if_long`]) before the all-orders fits of `specs` to `data` whose
+/// walks will take long ([`fit_walk_cost`]); nothing for single scattering.
+fn warn_if_fit_walks_long(
+    py: Python<'_>,
+    data: &Dataset,
+    specs: &[ModelSpec],
+    opts: &FitOptions,
+) -> PyResult<()> {
+    if opts.orders == ScatteringOrders::Single {
+        return Ok(());
+    }
+    let cost = py.detach(|| fit_walk_cost(data, specs, opts));
+    long_run::warn_if_long(py, cost.seconds, &cost.what(), long_run::FEWER_WALKS)
+}
+
 /// Fits models to every sample of `data` (a `Dataset`, or anything `stfit.load` reads), with the
 /// options and defaults of the command line (`stfit DATA`), and returns one `FitResult` per
 /// sample and model, in sample order then model order.
@@ -204,19 +219,7 @@ pub fn fit(
         multiple_term,
     )?;
     let data = crate::data::load(data, sample)?.0;
-    if opts.orders != ScatteringOrders::Single {
-        let cost = py.detach(|| fit_walk_cost(&data, &specs, &opts));
-        long_run::warn_if_long(
-            py,
-            cost.seconds,
-            &format!(
-                "the random walks of the all-orders fits (at least {} estimates of the orders \
-                 >= 2 term, {} walks per incident direction each)",
-                cost.estimates, opts.walks
-            ),
-            long_run::FEWER_WALKS,
-        )?;
-    }
+    warn_if_fit_walks_long(py, &data, &specs, &opts)?;
     let fits = py
         .detach(|| fit_dataset(&data, &specs, &opts, &|_, _| {}))
         .map_err(|e| fit_error(py, &e))?;
@@ -698,19 +701,7 @@ pub fn report(
                 multiple_term,
             )?;
             let (specs, opts) = (all_models(), &fit_opts);
-            if opts.orders != ScatteringOrders::Single {
-                let cost = py.detach(|| fit_walk_cost(&data, &specs, opts));
-                long_run::warn_if_long(
-                    py,
-                    cost.seconds,
-                    &format!(
-                        "the random walks of the all-orders fits (at least {} estimates of the orders \
-                                 >= 2 term, {} walks per incident direction each)",
-                        cost.estimates, opts.walks
-                    ),
-                    long_run::FEWER_WALKS,
-                )?;
-            }
+            warn_if_fit_walks_long(py, &data, &specs, opts)?;
             py.detach(|| fit_dataset(&data, &specs, opts, &|_, _| {}))
                 .map_err(|e| fit_error(py, &e))?
         }

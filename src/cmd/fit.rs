@@ -294,15 +294,7 @@ pub fn fit_with_progress(
 ) -> Result<Vec<FitResult>, CmdError> {
     if opts.orders != ScatteringOrders::Single {
         let cost = fit_walk_cost(data, specs, opts);
-        long_run::note_if_long(
-            cost.seconds,
-            &format!(
-                "the random walks of the all-orders fits (at least {} estimates of the orders >= \
-                 2 term, {} walks per incident direction each)",
-                cost.estimates, opts.walks
-            ),
-            "fewer --walks make it shorter",
-        );
+        long_run::note_if_long(cost.seconds, &cost.what(), "fewer --walks make it shorter");
     }
     let show = show && opts.orders != ScatteringOrders::Single && std::io::stderr().is_terminal();
     let bar = show.then(|| {

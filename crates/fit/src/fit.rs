@@ -784,6 +784,19 @@ pub struct FitWalkCost {
     pub estimates: usize,
     /// Their estimated wall time, in seconds, on rayon's current pool.
     pub seconds: f64,
+    /// Walks per incident direction of each estimate.
+    pub walks: u64,
+}
+
+impl FitWalkCost {
+    /// What the walks are, for a note before a long run.
+    pub fn what(&self) -> String {
+        format!(
+            "the random walks of the all-orders fits (at least {} estimates of the orders >= 2 \
+             term, {} walks per incident direction each)",
+            self.estimates, self.walks
+        )
+    }
 }
 
 /// The least the random walks of the fits of `specs` to every sample of `data` will cost, for
@@ -799,6 +812,7 @@ pub fn fit_walk_cost(data: &Dataset, specs: &[ModelSpec], opts: &FitOptions) -> 
     let mut cost = FitWalkCost {
         estimates: 0,
         seconds: 0.0,
+        walks: opts.walks,
     };
     if opts.orders == ScatteringOrders::Single {
         return cost;
