@@ -13,9 +13,9 @@ use stfit_fit::conventions::{THETA_I_RANGE, THETA_O_RANGE, theta_i_in_range, the
 use stfit_fit::options::check_fit_walks;
 use stfit_fit::synth::{SynthSpec, parse_angle_list, write_file};
 use stfit_fit::{
-    DEFAULT_ETA, DEFAULT_LOG_FLOOR, DEFAULT_WALKS, Dataset, FitOptions, FitResult, FitsFile, Gamma, Grid,
-    Loss, Model, ModelKind, ModelSpec, MultipleTerm, Optimizer, Parameter, SynthError, all_models,
-    fit_dataset, fit_walk_cost,
+    DEFAULT_ETA, DEFAULT_LOG_FLOOR, DEFAULT_WALKS, Dataset, FitOptions, FitResult, FitsFile, Gamma,
+    Grid, Loss, Model, ModelKind, ModelSpec, MultipleTerm, Optimizer, Parameter, SynthError,
+    all_models, fit_dataset, fit_walk_cost,
 };
 use stfit_report::{ReportError, ReportOptions, YScale, fits_table, render_report};
 
