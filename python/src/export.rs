@@ -7,8 +7,8 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use stfit_export::radiance::{LayerKind, QuadratureRule, RadianceOptions};
 use stfit_export::{
-    BatchError, Destination, Selection, Target, export_fits, radiance_walk_seconds,
-    radiance_walks_apply, reference_walk_seconds, select_fits,
+    BatchError, Destination, Selection, Target, export_fits, export_walks, radiance_walks_apply,
+    select_fits,
 };
 use stfit_fit::{FitResult, FitsFile, ModelKind};
 
@@ -163,25 +163,13 @@ pub fn export(
     // The walks of the export, announced when long (a selection the export refuses is
     // reported by it).
     if let Ok(selected) = select_fits(&fits, &selection, target, dest) {
-        let (seconds, what, shorter) = if target == Target::Radiance {
-            (
-                py.detach(|| radiance_walk_seconds(&selected, &radiance)),
-                format!(
-                    "the random walks of this export ({} per Klems patch)",
-                    radiance.walks_per_patch
-                ),
-                long_run::FEWER_WALKS,
-            )
+        let walks = py.detach(|| export_walks(&selected, target, &radiance));
+        let shorter = if walks.fits_own {
+            "fits with fewer walks make it shorter"
         } else {
-            (
-                py.detach(|| reference_walk_seconds(&selected)),
-                "the all-orders fits' own random walks, which give their values over the sphere \
-                 of directions the translation is measured on,"
-                    .to_owned(),
-                "fits with fewer walks make it shorter",
-            )
+            long_run::FEWER_WALKS
         };
-        long_run::warn_if_long(py, seconds, &what, shorter)?;
+        long_run::warn_if_long(py, walks.seconds, &walks.what, shorter)?;
     }
     let batch = py
         .detach(|| export_fits(&fits, &selection, target, &radiance, dest))

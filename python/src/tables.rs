@@ -218,7 +218,7 @@ fn warn_if_long_table(py: Python<'_>, seconds: f64, spec: &TableSpec) -> PyResul
     long_run::warn_if_long(
         py,
         seconds,
-        &format!("the random walks of the table ({} per cell)", spec.walks),
+        &spec.walks_description(),
         "fewer walks or fewer nodes make it shorter",
     )
 }

@@ -9,7 +9,7 @@ use stfit_core::ndf::AnyNdf;
 use stfit_core::surface::{NdfChoice, NdfFamily, Surface, SurfaceOptions};
 use stfit_core::walk::{
     AlbedoEstimate, DEFAULT_ALBEDO_WALKS, DEFAULT_EVAL_WALKS, SideError, WalkCost, check_walks,
-    defined_stderr, distinct_incidences, eval_pairs, pilot_seed, walks_from_each_wo,
+    defined_stderr, eval_pairs, eval_pairs_walk_count, pilot_seed,
 };
 
 use crate::arrays::{Dirs, Pairing, checked_copy, values};
@@ -159,13 +159,7 @@ impl PyMicrosurface {
             let estimator = surface.estimator(orders).map_err(value_error)?;
             let pairs: Vec<_> = (0..pairing.n).map(|k| pairing.pair(a, b, k)).collect();
             let cost = WalkCost::measure_pairs(estimator.as_ref(), &pairs, walks, pilot_seed(seed));
-            // Walks from every incidence, and from every pair's wo (bidirectional).
-            let all_walks = walks
-                .saturating_mul(distinct_incidences(&pairs).len() as u64)
-                .saturating_add(
-                    walks_from_each_wo(estimator.as_ref(), walks)
-                        .saturating_mul(pairs.len() as u64),
-                );
+            let all_walks = eval_pairs_walk_count(estimator.as_ref(), &pairs, walks);
             Ok::<_, PyErr>((pairs, cost, all_walks))
         })?;
         long_run::warn_if_costly(py, cost, walks, all_walks)?;

@@ -16,8 +16,8 @@ use std::path::Path;
 
 use stfit_core::surface::Evaluation;
 use stfit_core::walk::{
-    DEFAULT_EVAL_WALKS, WalkCost, check_walks, defined_stderr, distinct_incidences,
-    eval_pairs_with_progress, pilot_seed, walks_from_each_wo,
+    DEFAULT_EVAL_WALKS, WalkCost, check_walks, defined_stderr, eval_pairs_walk_count,
+    eval_pairs_with_progress, pilot_seed,
 };
 use stfit_fit::pairs::read_pairs;
 
@@ -84,15 +84,7 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
             table.write_with(&mut out, &values, None)
         }
         Evaluation::Walk(walk) => {
-            let incidences = distinct_incidences(&table.pairs);
-            // Walks from every incidence, and from every pair's wo (bidirectional).
-            let all_walks = args
-                .walks
-                .saturating_mul(incidences.len() as u64)
-                .saturating_add(
-                    walks_from_each_wo(walk.as_ref(), args.walks)
-                        .saturating_mul(table.pairs.len() as u64),
-                );
+            let all_walks = eval_pairs_walk_count(walk.as_ref(), &table.pairs, args.walks);
             let cost = WalkCost::measure_pairs(
                 walk.as_ref(),
                 &table.pairs,

@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use clap::{Args as ClapArgs, ValueEnum};
 use stfit_export::radiance::{DEFAULT_WALKS_PER_PATCH, LayerKind, QuadratureRule, RadianceOptions};
 use stfit_export::{
-    BatchError, Destination, FitExport, Selection, Target, export_fits, radiance_walk_seconds,
-    radiance_walks_apply, reference_walk_seconds, select_fits,
+    BatchError, Destination, FitExport, Selection, Target, export_fits, export_walks,
+    radiance_walks_apply, select_fits,
 };
 use stfit_fit::{FitsFile, ModelKind};
 
@@ -195,23 +195,16 @@ pub fn run(args: &Args, given: &[String]) -> CmdResult {
         e => failed(format!("{}: {e}", args.fits.display())),
     };
     let selected = select_fits(&file.fits, &selection, target, dest).map_err(batch_error)?;
-    if target == Target::Radiance {
-        long_run::note_if_long(
-            radiance_walk_seconds(&selected, &radiance),
-            &format!(
-                "the random walks of this export ({} per Klems patch)",
-                radiance.walks_per_patch
-            ),
-            "fewer --walks make it shorter",
-        );
-    } else {
-        long_run::note_if_long(
-            reference_walk_seconds(&selected),
-            "the all-orders fits' own random walks, which give their values over the sphere of \
-             directions the translation is measured on,",
-            "fits with fewer --walks make it shorter",
-        );
-    }
+    let walks = export_walks(&selected, target, &radiance);
+    long_run::note_if_long(
+        walks.seconds,
+        &walks.what,
+        if walks.fits_own {
+            "fits with fewer --walks make it shorter"
+        } else {
+            "fewer --walks make it shorter"
+        },
+    );
     let batch =
         export_fits(&file.fits, &selection, target, &radiance, dest).map_err(batch_error)?;
     for item in &batch.items {

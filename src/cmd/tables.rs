@@ -241,10 +241,7 @@ fn compute_table(a: &TableArgs) -> CmdResult {
     .map_err(spec_error)?;
     long_run::note_if_long(
         plan.walk_seconds().map_err(spec_error)?,
-        &format!(
-            "the random walks of the table ({} per cell)",
-            plan.spec.walks
-        ),
+        &plan.spec.walks_description(),
         "fewer --walks or fewer nodes make it shorter",
     );
     let bar = progress_bar(plan.work_units());

@@ -231,6 +231,46 @@ pub fn reference_walk_seconds(selected: &[&FitResult]) -> f64 {
         .sum()
 }
 
+/// The random walks of an export of `selected` ([`select_fits`]) to `target`, for a note before
+/// a long run ([`export_walks`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExportWalks {
+    /// Their estimated wall time, in seconds ([`radiance_walk_seconds`] for Radiance,
+    /// [`reference_walk_seconds`] for a renderer).
+    pub seconds: f64,
+    /// What they are.
+    pub what: String,
+    /// Whether they are the all-orders fits' own walks (made shorter by fits with fewer walks),
+    /// rather than the export's (`--walks` of Radiance).
+    pub fits_own: bool,
+}
+
+/// The random walks of an export of `selected` to `target` ([`ExportWalks`]).
+pub fn export_walks(
+    selected: &[&FitResult],
+    target: Target,
+    radiance: &RadianceOptions,
+) -> ExportWalks {
+    if target == Target::Radiance {
+        ExportWalks {
+            seconds: radiance_walk_seconds(selected, radiance),
+            what: format!(
+                "the random walks of this export ({} per Klems patch)",
+                radiance.walks_per_patch
+            ),
+            fits_own: false,
+        }
+    } else {
+        ExportWalks {
+            seconds: reference_walk_seconds(selected),
+            what: "the all-orders fits' own random walks, which give their values over the \
+                   sphere of directions the translation is measured on,"
+                .to_owned(),
+            fits_own: true,
+        }
+    }
+}
+
 /// Refuses two fits with the same identifier ([`BatchError::SameName`]) and, when each fit
 /// gets its own file (`files`), two whose identifiers differ only in case
 /// ([`BatchError::SameNameIgnoringCase`]).

@@ -30,8 +30,8 @@ pub mod targets;
 pub mod translate;
 
 pub use batch::{
-    Batch, BatchError, Destination, FitExport, Item, Output, Refused, export_fits,
-    radiance_walk_seconds, radiance_walks_apply, reference_walk_seconds, select_fits,
+    Batch, BatchError, Destination, ExportWalks, FitExport, Item, Output, Refused, export_fits,
+    export_walks, radiance_walk_seconds, radiance_walks_apply, reference_walk_seconds, select_fits,
 };
 pub use error::ExportError;
 pub use model::ExportModel;

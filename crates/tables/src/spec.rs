@@ -142,6 +142,12 @@ pub struct Line {
 }
 
 impl TableSpec {
+    /// What the random walks of a table (or shard) of this specification are, for a note
+    /// before a long run.
+    pub fn walks_description(&self) -> String {
+        format!("the random walks of the table ({} per cell)", self.walks)
+    }
+
     /// The nodes of Blender Cycles' tables (`src/app/cycles_precompute.cpp`): for a dielectric
     /// the 16 x 16 x 16 nodes of `ggx_glass_E` and `ggx_glass_inv_E`, both sides
     /// ([`cycles_roughness`], [`cycles_mu`], [`cycles_ior`]); for a conductor or mirror the

@@ -490,6 +490,15 @@ pub fn walks_from_each_wo(estimator: &dyn Estimator, walks: u64) -> u64 {
         .sum()
 }
 
+/// Every walk [`eval_pairs`] runs for `pairs` with `walks` walks per incident direction: those
+/// from each distinct incidence ([`distinct_incidences`]) and, for a bidirectional estimator,
+/// those from each pair's `wo` ([`walks_from_each_wo`]); saturating at `u64::MAX`.
+pub fn eval_pairs_walk_count(estimator: &dyn Estimator, pairs: &[(Vec3, Vec3)], walks: u64) -> u64 {
+    walks
+        .saturating_mul(distinct_incidences(pairs).len() as u64)
+        .saturating_add(walks_from_each_wo(estimator, walks).saturating_mul(pairs.len() as u64))
+}
+
 /// The walks from a `wo` that match a chunk of `len` walks from `wi`: `fraction` times as
 /// many, rounded, and at least two, so that every chunk's variance (and the estimate's
 /// standard error) is defined.

@@ -75,7 +75,7 @@ pub use engine::{WalkEnd, WalkSample};
 pub use estimate::{
     AlbedoEstimate, Batched, CHUNK, Estimate, Estimator, PairEstimate, SideError, chunk_walks,
     defined_stderr, direction_seed, distinct_incidences, eval_pairs, eval_pairs_batched,
-    eval_pairs_with_progress, unreached_upper_bound, walks_from_each_wo,
+    eval_pairs_walk_count, eval_pairs_with_progress, unreached_upper_bound, walks_from_each_wo,
 };
 pub use facet::{
     BsdfFacet, ConductorFacet, DielectricFacet, Facet, FacetSample, HeightFieldHit,
