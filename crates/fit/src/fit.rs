@@ -708,14 +708,15 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
         }
     };
     let proj = Projected::new(opts.loss, &prep.v, &prep.w, opts.log_floor, scale_in_units);
+    // The model itself: single scattering, or all orders with fresh walks at every evaluation.
+    let eval = Evaluator {
+        prep,
+        proj,
+        shape,
+        opts: *opts,
+        multi: None,
+    };
     if !prep.forward.has_walks() {
-        let eval = Evaluator {
-            prep,
-            proj,
-            shape,
-            opts: *opts,
-            multi: None,
-        };
         let (best, iterations) = search(&eval, eval.starts())?;
         let (best, iterations) = hop_eta(&eval, best, iterations)?;
         return finish(&eval, &best.x, iterations, None);
@@ -723,17 +724,12 @@ fn fit_prepared(prep: &Prepared, shape: Shape, opts: &FitOptions) -> Result<FitR
     let (prep_single, start) = single_scattering_start(prep, shape, opts)?;
     match opts.multiple_term {
         MultipleTerm::Exact => {
-            let eval = Evaluator {
-                prep,
-                proj,
-                shape,
-                opts: *opts,
-                multi: None,
-            };
             let (best, iterations) = search(&eval, vec![start])?;
             finish(&eval, &best.x, iterations, None)
         }
-        MultipleTerm::Surrogate => fit_with_surrogate(prep, &prep_single, shape, opts, proj, start),
+        MultipleTerm::Surrogate => {
+            fit_with_surrogate(prep, &prep_single, shape, opts, eval.proj, start)
+        }
     }
 }
 
