@@ -6,6 +6,11 @@ use std::path::Path;
 #[cfg(not(unix))]
 use std::path::PathBuf;
 
+/// Characters of a sample's name kept in the names of files made for it (`synth --pabopto`,
+/// `report`, `export`), so that those names stay within every file system's limit (255 bytes)
+/// with the rest of the name.
+pub const MAX_SAMPLE_CHARS: usize = 100;
+
 /// The bytes of the input file at `path`, read whole: a regular file or a pipe (`<(...)`,
 /// `/dev/stdin`). On Unix a device or a socket is refused with an
 /// [`std::io::ErrorKind::InvalidInput`] error before anything is read: `/dev/zero` or

@@ -400,13 +400,10 @@ fn data_line(
     Ok((theta, phi, read[read.len() / 2]))
 }
 
-/// Characters of the sample name kept in the names of [`write_pabopto`]'s files.
-pub const PABOPTO_STEM_CHARS: usize = 100;
-
 /// Writes a general sample as pab-opto files into the folder `dir` (created if missing), one
 /// per incident direction and scattered side, named `NAME_THETA_PHI_R.txt` (reflection) or
 /// `_T.txt` (transmission), values as `form`, preceded by `comment` lines. Returns the paths.
-/// `NAME` is the first [`PABOPTO_STEM_CHARS`] characters of the sample name, each outside
+/// `NAME` is the first [`MAX_SAMPLE_CHARS`](crate::files::MAX_SAMPLE_CHARS) characters of the sample name, each outside
 /// `[A-Za-z0-9-]` becoming `_` (`sample` for an unnamed sample), and the angles are written as
 /// in the files, in the shortest form that reads back to them, in exponent form outside
 /// `[1e-4, 1e15)` (`1e-300`, not 300 zeros): a name is at most about 160 bytes, so valid
@@ -476,7 +473,7 @@ pub fn write_pabopto(
         sample
             .name
             .chars()
-            .take(PABOPTO_STEM_CHARS)
+            .take(crate::files::MAX_SAMPLE_CHARS)
             .map(|c| {
                 if c.is_ascii_alphanumeric() || c == '-' {
                     c

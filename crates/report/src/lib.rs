@@ -123,11 +123,9 @@ pub fn model_description(m: &stfit_fit::Model) -> String {
     }
 }
 
-/// Characters of a sample's name kept in its file names (as `export` does), so that names stay
-/// within every file system's limit (255 bytes), a suffix of [`file_stems`] included.
-pub const MAX_STEM_CHARS: usize = 100;
-
-/// A file-name stem for a sample: its first [`MAX_STEM_CHARS`] characters, ASCII letters,
+/// A file-name stem for a sample: its first
+/// [`MAX_SAMPLE_CHARS`](stfit_fit::files::MAX_SAMPLE_CHARS) characters (room left for a suffix
+/// of [`file_stems`]), ASCII letters,
 /// digits, `-`, `_` and `.` kept, anything else replaced by `_`; `sample` for an unnamed one.
 pub fn file_stem(sample: &str) -> String {
     if sample.is_empty() {
@@ -135,7 +133,7 @@ pub fn file_stem(sample: &str) -> String {
     }
     sample
         .chars()
-        .take(MAX_STEM_CHARS)
+        .take(stfit_fit::files::MAX_SAMPLE_CHARS)
         .map(|c| {
             if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
                 c

@@ -142,13 +142,10 @@ pub fn join(exports: &[Export]) -> Vec<ExportFile> {
         .collect()
 }
 
-/// The longest part of a sample's name in a fit's identifier.
-pub const MAX_SAMPLE_CHARS: usize = 100;
-
 /// The identifier of a fit in scene files and file names: its sample and model with every
 /// character outside `[A-Za-z0-9]` replaced by `_`, such as `frosted_student_t` and
 /// `frosted_student_t_gamma_fixed`; the sample's name is cut to its first
-/// [`MAX_SAMPLE_CHARS`] characters, so that file names stay within every file system's limit.
+/// [`MAX_SAMPLE_CHARS`](stfit_fit::files::MAX_SAMPLE_CHARS) characters, so that file names stay within every file system's limit.
 /// An identifier that would start with a digit (a sample named `2024 frosted`) starts with `_`
 /// instead (`_2024_frosted_ggx`): it names a Python variable and function in the Mitsuba 3 and
 /// Cycles scripts, where a leading digit is a syntax error.
@@ -158,7 +155,11 @@ pub fn fit_identifier(fit: &FitResult) -> String {
     } else {
         ""
     };
-    let sample: String = fit.sample.chars().take(MAX_SAMPLE_CHARS).collect();
+    let sample: String = fit
+        .sample
+        .chars()
+        .take(stfit_fit::files::MAX_SAMPLE_CHARS)
+        .collect();
     let id: String = format!("{sample}-{}{suffix}", fit.model.kind.name())
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
