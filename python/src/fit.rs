@@ -582,9 +582,7 @@ pub fn synth(
         long_run::warn_if_long(
             py,
             seconds,
-            &format!(
-                "the random walks of the orders >= 2 term ({walks} walks per incident direction)"
-            ),
+            &spec.walks_description(),
             long_run::FEWER_WALKS,
         )?;
     }
@@ -711,8 +709,7 @@ pub fn report(
     long_run::warn_if_long(
         py,
         seconds,
-        "the all-orders fits' own random walks, which give the orders >= 2 of the curves and of \
-         the model at the measured points,",
+        stfit_report::WALKS_DESCRIPTION,
         "fits with fewer walks make it shorter",
     )?;
     let report = py

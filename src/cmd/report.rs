@@ -106,8 +106,7 @@ pub fn run(args: ReportArgs, given: &[String]) -> CmdResult {
     // hand-edited `walks` in stored fits can make hours of them).
     long_run::note_if_long(
         stfit_report::walk_seconds(&data, &fits, &opts),
-        "the all-orders fits' own random walks, which give the orders >= 2 of the curves and \
-         of the model at the measured points,",
+        stfit_report::WALKS_DESCRIPTION,
         if stored {
             "fits with fewer --walks make it shorter"
         } else {

@@ -265,10 +265,7 @@ pub fn run(args: SynthArgs, given: &[String]) -> CmdResult {
     if walks {
         long_run::note_if_long(
             spec.walk_seconds().map_err(synth_error)?,
-            &format!(
-                "the random walks of the orders >= 2 term ({} walks per incident direction)",
-                args.walks
-            ),
+            &spec.walks_description(),
             "fewer --walks make it shorter",
         );
     }

@@ -255,6 +255,14 @@ impl SynthSpec {
         Ok(self.model.walk_seconds(&self.grid.points())?)
     }
 
+    /// What the random walks of [`SynthSpec::sample`] are, for a note before a long run.
+    pub fn walks_description(&self) -> String {
+        format!(
+            "the random walks of the orders >= 2 term ({} walks per incident direction)",
+            self.model.walks.unwrap_or(0)
+        )
+    }
+
     /// The synthetic sample: at every grid point, in row order, the model value
     /// ([`Model::predict_points`]: `L` for an in-plane grid, the BSDF for a general one) with
     /// multiplicative noise `max(0, v (1 + noise z))`, `z ~ N(0, 1)` drawn in row order from

@@ -255,6 +255,12 @@ fn push_figure(
     Ok(())
 }
 
+/// What the random walks of [`render_report`] are ([`walk_seconds`]), for a note before a long
+/// run.
+pub const WALKS_DESCRIPTION: &str = "the all-orders fits' own random walks, which give the \
+                                     orders >= 2 of the curves and of the model at the measured \
+                                     points,";
+
 /// Estimated wall time, in seconds, of the random walks that [`render_report`] runs to draw
 /// `fits` against `data` with `opts`, for a note before a long run: the orders >= 2 term of
 /// every all-orders fit at the points of its panel, curves and measured points alike (one set
